@@ -1,0 +1,49 @@
+// The wire state that every model hands to analysis and io. Nothing downstream
+// of this struct knows which model produced it.
+//
+// Units: lengths in wire diameters d, forces in the force unit of the scene
+// (EA and EI are given in it), energies in force * d.
+#pragma once
+
+#include <wirefem/geometry/vec2.h>
+
+#include <vector>
+
+namespace wirefem::analysis
+{
+  /// One wire-wire contact: two points of the centreline closer than d.
+  struct SelfContact
+  {
+    /// Rest arc-length coordinates of the two contact points, measured from the
+    /// left end of the wire state (units d), s_a < s_b.
+    double s_a = 0.0;
+    double s_b = 0.0;
+    /// Indices of the points of WireState::points nearest to each contact point.
+    int point_a = 0;
+    int point_b = 0;
+    /// Contact points on the two centrelines (units d).
+    geometry::Vec2 x_a;
+    geometry::Vec2 x_b;
+    /// Normal contact force magnitude (>= 0).
+    double normal_force = 0.0;
+  };
+
+  /// A polyline wire from the left inlet to the right inlet, with per-point
+  /// fields. All per-point vectors have points.size() entries.
+  struct WireState
+  {
+    double diameter = 1.0;      ///< wire diameter d (the length unit, so 1)
+    double cavity_radius = 1.0; ///< r, units d
+    double time = 0.0;
+    double injected_length = 0.0; ///< wire length inside the cavity L (units d)
+
+    std::vector<geometry::Vec2> points; ///< centreline, left inlet to right inlet
+    std::vector<double> arc_length;     ///< rest arc length from the first point (d)
+    std::vector<double> curvature;      ///< signed curvature (1/d), + = turning left
+    std::vector<double> plastic_curvature; ///< plastic (permanent) curvature (1/d)
+    std::vector<double> bending_energy;    ///< elastic bending energy lumped at the point
+    std::vector<double> contact_force;     ///< sum of contact normal forces at the point
+    std::vector<SelfContact> self_contacts;
+    double max_wall_force = 0.0; ///< largest wall contact force
+  };
+} // namespace wirefem::analysis

@@ -1,0 +1,69 @@
+// The discrete model's state: point masses on a chain at rest spacing
+// lambda_0. Nodes live in arrays indexed by a stable storage index; the
+// active nodes are [first, last). Injection grows the chain at both ends
+// (first decreases, last increases), so indices never shift and contact
+// history keyed by them stays valid.
+//
+// The n_prescribed outermost nodes at each end sit in the channels and move
+// with the injection; all others are free.
+#pragma once
+
+#include <wirefem/geometry/vec2.h>
+
+#include <vector>
+
+namespace wirefem::discrete
+{
+  struct Chain
+  {
+    double lambda0 = 1.0;   ///< rest length of a segment (d)
+    double node_mass = 1.0; ///< rho A lambda_0
+    int first = 0;          ///< first active node (storage index)
+    int last = 0;           ///< one past the last active node
+    int n_prescribed = 2;   ///< nodes held by each channel
+
+    std::vector<geometry::Vec2> x; ///< positions (d)
+    std::vector<geometry::Vec2> v; ///< velocities (d / time)
+    std::vector<geometry::Vec2> f; ///< forces of the current step
+    std::vector<double> contact_force; ///< sum of contact normal forces per node (output)
+
+    explicit Chain(int capacity = 0)
+      : x(capacity), v(capacity), f(capacity), contact_force(capacity)
+    {}
+    int capacity() const { return static_cast<int>(x.size()); }
+    int n_active() const { return last - first; }
+    bool is_free(const int k) const
+    {
+      return k >= first + n_prescribed && k < last - n_prescribed;
+    }
+  };
+
+  /// What the force terms of one step report: potential energies at the
+  /// current state and the increments of dissipated work over the step.
+  struct StepEnergy
+  {
+    double stretching = 0.0;        ///< sum 1/2 k1 (lambda - lambda_0)^2
+    double bending = 0.0;           ///< sum 1/2 k2 (zeta - zeta_p)^2
+    double contact = 0.0;           ///< penalty energy 1/2 k_n overlap^2
+    double friction_stored = 0.0;   ///< energy in sticking springs 1/2 k_t u^2
+    double damping_work = 0.0;      ///< dissipated by viscous damping this step
+    double plastic_work = 0.0;      ///< plastic work this step
+    double friction_work = 0.0;     ///< work absorbed by friction forces this step
+    double max_penetration = 0.0;   ///< largest overlap (d)
+    int n_self_contacts = 0;
+    int n_wall_contacts = 0;
+  };
+
+  /// A force term (an effect) of the discrete model. add_forces() adds its
+  /// forces to chain.f from the state at the start of the step and leaves
+  /// its history untouched until commit(), so that it can be evaluated
+  /// repeatedly (finite-difference tests).
+  class Term
+  {
+  public:
+    virtual ~Term() = default;
+    virtual const char *name() const = 0;
+    virtual void add_forces(Chain &chain, double dt, StepEnergy &energy) = 0;
+    virtual void commit() {}
+  };
+} // namespace wirefem::discrete

@@ -1,0 +1,90 @@
+// The discrete spring model of the paper, injected from two channels: builds
+// the terms (effects) a scene calls for, integrates the equations of motion
+// explicitly (semi-implicit Euler), feeds new nodes in at the inlets, and
+// keeps the energy ledger.
+#pragma once
+
+#include <wirefem/analysis/wire_state.h>
+#include <wirefem/discrete/chain.h>
+#include <wirefem/injection/channels.h>
+#include <wirefem/scene/parameters.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace wirefem::discrete
+{
+  class BendingTerm;
+  class SelfContactTerm;
+
+  /// Energies of the whole run (force * d). Potentials are current values,
+  /// dissipations and the injection work are accumulated since the start.
+  struct EnergyLedger
+  {
+    double stretching = 0.0;
+    double bending = 0.0;
+    double contact = 0.0;         ///< penalty energy of the normal contact springs
+    double kinetic = 0.0;         ///< free nodes
+    double plastic = 0.0;         ///< plastic work
+    double friction = 0.0;        ///< dissipated by friction (absorbed minus stored in sticking springs)
+    double friction_stored = 0.0; ///< in sticking springs now
+    double damping = 0.0;
+    double injection_work = 0.0;  ///< work of the channels plus kinetic energy of entering wire
+
+    double stored() const { return stretching + bending + contact + friction_stored + kinetic; }
+    double dissipated() const { return plastic + friction + damping; }
+    /// (work in - stored - dissipated) / work in.
+    double balance_error() const
+    {
+      return injection_work > 0.0 ? (injection_work - stored() - dissipated()) / injection_work : 0.0;
+    }
+  };
+
+  class ChainModel
+  {
+  public:
+    explicit ChainModel(const scene::Scene &scene);
+    ~ChainModel();
+
+    /// One explicit time step.
+    void step();
+
+    double time() const { return t; }
+    double time_step() const { return dt; }
+    unsigned long n_steps() const { return steps; }
+    double injected_length() const { return channels.injected_length(t); }
+    /// Axial force with which each channel pushes (positive: wire resists).
+    double force_left() const { return inlet_force[0]; }
+    double force_right() const { return inlet_force[1]; }
+    const EnergyLedger &energies() const { return ledger; }
+    const StepEnergy &last_step() const { return step_energy; }
+    /// Names of the effects this run simulates.
+    const std::vector<std::string> &active_effects() const { return effects; }
+    const Chain &chain() const { return nodes; }
+    /// Whether every coordinate and velocity is finite.
+    bool finite() const;
+
+    /// The wire from the left inlet to the right inlet, with per-point fields.
+    analysis::WireState wire_state() const;
+
+  private:
+    void place_initial_wire(const scene::Scene &scene);
+    void feed_channels();
+
+    double radius, diameter, lambda0, k2;
+    injection::Channels channels;
+    Chain nodes;
+    std::vector<std::unique_ptr<Term>> terms;
+    BendingTerm *bending = nullptr;
+    SelfContactTerm *self_contact = nullptr;
+    std::vector<std::string> effects;
+    int left_origin = 0;  // storage index of the node at the left inlet at t = 0
+    int right_origin = 0; // same, right
+    double t = 0.0, dt = 0.0;
+    unsigned long steps = 0;
+    double inlet_force[2] = {0.0, 0.0};
+    EnergyLedger ledger;
+    StepEnergy step_energy;
+  };
+} // namespace wirefem::discrete

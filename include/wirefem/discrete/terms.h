@@ -1,0 +1,123 @@
+// The force terms of the discrete model, one per effect. Each is built only
+// when the scene calls for its effect and owns exactly the state it needs.
+#pragma once
+
+#include <wirefem/contact/broad_phase.h>
+#include <wirefem/contact/friction_law.h>
+#include <wirefem/discrete/chain.h>
+#include <wirefem/material/moment_curvature_law.h>
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+namespace wirefem::discrete
+{
+  /// Tensile springs F = -k1 (lambda_0 - lambda) on every active segment.
+  class StretchingTerm : public Term
+  {
+  public:
+    explicit StretchingTerm(double k1) : k1(k1) {}
+    const char *name() const override { return "stretching"; }
+    void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+
+  private:
+    double k1;
+  };
+
+  /// Rotational springs M = -k2 (zeta - zeta_p) at every interior active
+  /// node, zeta the signed turning angle (+ = left) between the neighbouring
+  /// segments. With a plastic law, zeta_p evolves by its return mapping (state
+  /// only allocated then). An optional dashpot adds -c dzeta/dt.
+  class BendingTerm : public Term
+  {
+  public:
+    BendingTerm(const material::MomentCurvatureLaw &law, double rotational_damping, int capacity);
+    const char *name() const override { return "bending"; }
+    void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+    void commit() override;
+
+    /// Turning angle at node k (needs k-1, k+1 active).
+    static double turning_angle(const Chain &chain, int k);
+    double plastic_angle(int k) const { return state.empty() ? 0.0 : state[k].plastic_strain; }
+    bool has_plasticity() const { return !state.empty(); }
+
+  private:
+    material::MomentCurvatureLaw law;
+    double damping;
+    std::vector<material::PlasticState> state;       // committed, per node
+    std::vector<material::PlasticState> trial_state; // from the last add_forces
+  };
+
+  /// Viscous force -gamma m v on every free node.
+  class DampingTerm : public Term
+  {
+  public:
+    explicit DampingTerm(double gamma) : gamma(gamma) {}
+    const char *name() const override { return "damping"; }
+    void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+
+  private:
+    double gamma;
+  };
+
+  /// Parameters shared by the contact terms.
+  struct ContactLaw
+  {
+    double diameter = 1.0;
+    double normal_stiffness = 1000.0;
+    bool friction = false;
+    contact::FrictionCoefficients coefficients;
+  };
+
+  /// Wire-wall contact: the node's surface stays inside the circle of radius
+  /// r; nodes in a channel mouth (|y| < d/2, |x| > r - d) are exempt.
+  class WallContactTerm : public Term
+  {
+  public:
+    WallContactTerm(double radius, const ContactLaw &law);
+    const char *name() const override { return "wall contact"; }
+    void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+    void commit() override;
+
+  private:
+    double radius;
+    ContactLaw law;
+    std::unordered_map<int, contact::FrictionHistory> history, trial_history;
+  };
+
+  /// Wire-wire contact between segments closer than d, with candidates from
+  /// the broad phase. A pair whose closest point is the far end of one of its
+  /// segments is left to the neighbouring segment, so no contact is counted
+  /// twice at a node.
+  class SelfContactTerm : public Term
+  {
+  public:
+    /// exclusion: segments at most this many apart never touch.
+    SelfContactTerm(const ContactLaw &law, double skin, int exclusion);
+    const char *name() const override { return "self contact"; }
+    void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+    void commit() override;
+
+    struct ActivePair
+    {
+      int i, j;         ///< segments
+      double s, t;      ///< closest-point parameters
+      double normal_force;
+    };
+    const std::vector<ActivePair> &active_pairs() const { return active; }
+    const contact::BroadPhase &broad_phase() const { return broad; }
+
+  private:
+    static std::uint64_t key(int i, int j)
+    {
+      return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
+             static_cast<std::uint32_t>(j);
+    }
+    ContactLaw law;
+    contact::BroadPhase broad;
+    std::vector<ActivePair> active;
+    std::unordered_map<std::uint64_t, contact::FrictionHistory> history, trial_history;
+  };
+} // namespace wirefem::discrete

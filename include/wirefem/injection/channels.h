@@ -1,0 +1,69 @@
+// The two injection channels: at (-r, 0) pointing +x and at (r, 0) pointing
+// -x. Each pushes the wire in at the same speed: it rises smoothly from 0 to v
+// over the ramp time T, v(t) = v (1 - cos(pi t/T))/2, and stays at v after, so
+// the start sends no shock wave into the wire. Each channel has injected
+//   u(t) = v (t/2 - T/(2 pi) sin(pi t/T))   for t < T,   v (t - T/2) after,
+// and the wire inside the cavity is exactly L = 2 r + 2 u(t).
+//
+// A material point of the wire is labelled by its rest arc length S from the
+// inlet at t = 0, negative while it is still in the channel; at time t it is
+// at inlet + (S + u(t)) * axis as long as S + u(t) <= 0.
+#pragma once
+
+#include <wirefem/geometry/vec2.h>
+
+#include <cmath>
+
+namespace wirefem::injection
+{
+  enum class Side
+  {
+    left = 0,
+    right = 1
+  };
+
+  class Channels
+  {
+  public:
+    Channels(double radius, double speed, double ramp_time = 0.0)
+      : radius(radius), speed(speed), ramp(ramp_time) {}
+
+    geometry::Vec2 inlet(Side s) const
+    {
+      return {s == Side::left ? -radius : radius, 0.0};
+    }
+    /// Unit vector along which the channel pushes, into the cavity.
+    geometry::Vec2 axis(Side s) const { return {s == Side::left ? 1.0 : -1.0, 0.0}; }
+
+    /// Position at time t of the material point S of the wire in channel s.
+    geometry::Vec2 position(Side s, double material_coordinate, double t) const
+    {
+      return inlet(s) + (material_coordinate + injected_per_channel(t)) * axis(s);
+    }
+    /// Signed distance of x past the inlet along the channel axis.
+    double depth(Side s, const geometry::Vec2 &x) const
+    {
+      const auto a = axis(s);
+      return (x.x - inlet(s).x) * a.x + (x.y - inlet(s).y) * a.y;
+    }
+
+    /// Speed of each channel at time t.
+    double injection_speed(double t) const
+    {
+      return t < ramp ? 0.5 * speed * (1.0 - std::cos(M_PI * t / ramp)) : speed;
+    }
+    /// Length u(t) injected by each channel.
+    double injected_per_channel(double t) const
+    {
+      return t < ramp ? speed * (0.5 * t - ramp / (2.0 * M_PI) * std::sin(M_PI * t / ramp))
+                      : speed * (t - 0.5 * ramp);
+    }
+    /// Wire length inside the cavity, L = 2 r + 2 u(t).
+    double injected_length(double t) const { return 2.0 * radius + 2.0 * injected_per_channel(t); }
+
+  private:
+    double radius;
+    double speed;
+    double ramp;
+  };
+} // namespace wirefem::injection

@@ -1,0 +1,21 @@
+// series.csv: one row per output step, a fixed set of named columns.
+#pragma once
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace wirefem::io
+{
+  class SeriesWriter
+  {
+  public:
+    SeriesWriter(const std::string &filename, const std::vector<std::string> &columns);
+    /// values in the order of the columns; flushed so an interrupted run keeps its rows.
+    void write_row(const std::vector<double> &values);
+
+  private:
+    std::ofstream out;
+    std::size_t n_columns;
+  };
+} // namespace wirefem::io

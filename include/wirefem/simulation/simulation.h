@@ -1,0 +1,30 @@
+// One run of a scene: builds the model with the effects the scene calls for,
+// steps it to jamming (or another stop), observes and writes the output of
+// SPEC section 8 into the scene's output directory.
+#pragma once
+
+#include <wirefem/scene/parameters.h>
+
+#include <string>
+
+namespace wirefem::simulation
+{
+  struct RunResult
+  {
+    bool jammed = false;
+    bool failed = false;   ///< stopped by a numerical limit (NaN, blow-up, storage)
+    std::string stop_reason;
+    double phi_final = 0.0;
+    unsigned long steps = 0;
+    double wall_time_s = 0.0;
+    double energy_balance_error = 0.0; ///< relative, over the whole run
+    double max_penetration = 0.0;      ///< largest overlap over the whole run (d)
+    int loops = 0;
+    std::string morphology;
+    double symmetry = 0.0;
+  };
+
+  /// Runs the scene; creates the output directory. Progress and the active
+  /// effects go to stderr/stdout.
+  RunResult run(const scene::Scene &scene);
+} // namespace wirefem::simulation

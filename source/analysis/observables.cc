@@ -1,0 +1,104 @@
+#include <wirefem/analysis/observables.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace wirefem::analysis
+{
+  using geometry::Vec2;
+
+  double packing_density(const double injected_length, const double radius, const double diameter)
+  {
+    return diameter * injected_length / (M_PI * radius * radius);
+  }
+
+  int count_loops(const WireState &wire)
+  {
+    auto contacts = wire.self_contacts;
+    std::sort(contacts.begin(), contacts.end(),
+              [](const SelfContact &a, const SelfContact &b) { return a.s_a < b.s_a; });
+    std::vector<bool> taken(contacts.size(), false);
+    int clusters = 0;
+    const double gap = 2.0 * wire.diameter;
+    for (std::size_t i = 0; i < contacts.size(); ++i)
+      {
+        if (taken[i])
+          continue;
+        ++clusters;
+        // Grow the cluster: a flood fill over pairs adjacent on both wires.
+        std::vector<std::size_t> stack{i};
+        taken[i] = true;
+        while (!stack.empty())
+          {
+            const auto a = contacts[stack.back()];
+            stack.pop_back();
+            for (std::size_t j = 0; j < contacts.size(); ++j)
+              if (!taken[j] && std::abs(contacts[j].s_a - a.s_a) <= gap &&
+                  std::abs(contacts[j].s_b - a.s_b) <= gap)
+                {
+                  taken[j] = true;
+                  stack.push_back(j);
+                }
+          }
+      }
+    return clusters;
+  }
+
+  namespace
+  {
+    // Polar angle swept (turns) along points[from] -> points[to].
+    double winding(const std::vector<Vec2> &p, const int from, const int to)
+    {
+      double sweep = 0.0;
+      const int step = to > from ? 1 : -1;
+      for (int k = from; k != to; k += step)
+        {
+          const Vec2 a = p[k], b = p[k + step];
+          if (norm_square(a) < 1e-12 || norm_square(b) < 1e-12)
+            continue;
+          sweep += std::atan2(cross(a, b), dot(a, b));
+        }
+      return sweep / (2.0 * M_PI);
+    }
+  } // namespace
+
+  Morphology classify(const WireState &wire, const double spiral_turns)
+  {
+    Morphology m;
+    const auto &p = wire.points;
+    const int n = static_cast<int>(p.size());
+    if (n < 3)
+      {
+        m.phase = "classic";
+        return m;
+      }
+    const double r_inner = wire.cavity_radius / std::sqrt(2.0);
+    double a = 0.0, b = 0.0;
+    for (int k = 0; k < n; ++k)
+      {
+        const double kappa = k < static_cast<int>(wire.curvature.size()) ? wire.curvature[k] : 0.0;
+        const double ds = (k > 0 && k < n - 1) ? 0.5 * (norm(p[k + 1] - p[k]) + norm(p[k] - p[k - 1])) : 0.0;
+        (norm(p[k]) < r_inner ? a : b) += kappa * kappa * ds;
+      }
+    m.curvature_ratio = b > 0.0 ? a / b : (a > 0.0 ? INFINITY : 0.0);
+
+    // Mirror symmetry about the y axis: the point at arc length s from the
+    // left inlet, mirrored, against the point at s from the right inlet.
+    double dev = 0.0;
+    const int half = n / 2;
+    for (int k = 0; k < half; ++k)
+      {
+        const Vec2 l = p[k], r = p[n - 1 - k];
+        dev += norm(Vec2{-l.x, l.y} - r);
+      }
+    m.symmetry = std::clamp(1.0 - dev / (half * wire.cavity_radius), 0.0, 1.0);
+
+    const int mid = n / 2;
+    m.winding_left = winding(p, 0, mid);
+    m.winding_right = winding(p, n - 1, mid);
+    const bool spiral = std::abs(m.winding_left) >= spiral_turns && std::abs(m.winding_right) >= spiral_turns &&
+                        m.winding_left * m.winding_right > 0.0;
+    m.phase = spiral ? "spiral" : (m.curvature_ratio < 0.5 ? "classic" : "plastic");
+    return m;
+  }
+} // namespace wirefem::analysis

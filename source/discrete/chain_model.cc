@@ -1,0 +1,272 @@
+#include <wirefem/discrete/chain_model.h>
+#include <wirefem/discrete/terms.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace wirefem::discrete
+{
+  using geometry::Vec2;
+  using injection::Side;
+
+  ChainModel::ChainModel(const scene::Scene &scene)
+    : radius(scene.cavity.radius)
+    , diameter(1.0)
+    , lambda0(scene.discrete.segment_length)
+    , k2(scene.wire.bending_stiffness / scene.discrete.segment_length)
+    , channels(scene.cavity.radius, scene.injection.speed, scene.injection.ramp_time)
+  {
+    const double k1 = scene.wire.axial_stiffness / lambda0;
+    const double mass = scene.wire.mass_per_length * lambda0;
+    const auto &con = scene.contact;
+    const auto &fr = con.friction;
+    // Penalty per unit wire length: a node (or a segment pair) stands for
+    // lambda_0 of wire, so the contact force per length does not depend on
+    // the discretisation.
+    const double kn = con.normal_stiffness * lambda0;
+
+    // Storage for every node the run can hold: the wire that fills the
+    // cavity up to the maximum packing density, plus the channel nodes.
+    const int n0 = static_cast<int>(std::lround(2.0 * radius / lambda0));
+    const double max_length = scene.injection.maximum_packing_density * M_PI * radius * radius / diameter;
+    const int extra = static_cast<int>(std::ceil(std::max(0.0, max_length - 2.0 * radius) / (2.0 * lambda0))) + 8;
+    nodes = Chain(n0 + 1 + 2 * 2 + 2 * extra);
+    nodes.lambda0 = lambda0;
+    nodes.node_mass = mass;
+    nodes.n_prescribed = 2;
+    place_initial_wire(scene);
+
+    const bool keep = scene.keep_neutral_effects;
+    effects.push_back("stretching");
+    terms.push_back(std::make_unique<StretchingTerm>(k1));
+    double omega2 = 4.0 * k1 / mass;
+    if (scene.wire.bending_stiffness > 0.0)
+      {
+        const auto &pl = scene.wire.plasticity;
+        const double alpha = scene.yield_angle();
+        const bool plastic = pl.enabled && (keep || (alpha < M_PI && pl.hardening_slope < 1.0));
+        const auto law = plastic ? material::MomentCurvatureLaw(k2, alpha, pl.hardening_slope, pl.hardening)
+                                 : material::MomentCurvatureLaw(k2);
+        auto b = std::make_unique<BendingTerm>(law, scene.discrete.rotational_damping, nodes.capacity());
+        bending = b.get();
+        terms.push_back(std::move(b));
+        effects.push_back("bending");
+        if (bending->has_plasticity())
+          effects.push_back("plasticity");
+        omega2 += 16.0 * k2 / (mass * lambda0 * lambda0);
+      }
+    if (scene.discrete.translational_damping > 0.0)
+      terms.push_back(std::make_unique<DampingTerm>(scene.discrete.translational_damping));
+    if (scene.discrete.translational_damping > 0.0 ||
+        (bending && scene.discrete.rotational_damping > 0.0))
+      effects.push_back("damping");
+
+    ContactLaw law;
+    law.diameter = diameter;
+    law.normal_stiffness = kn;
+    law.coefficients.threshold_velocity = fr.threshold_velocity;
+    law.coefficients.tangential_stiffness = fr.tangential_stiffness_ratio * kn;
+    bool any_friction = false;
+    if (con.wall_contact)
+      {
+        ContactLaw wall = law;
+        wall.coefficients.mu_static = fr.wall_static_coefficient;
+        wall.coefficients.mu_dynamic = fr.wall_dynamic_coefficient;
+        wall.friction = keep || fr.wall_static_coefficient > 0.0;
+        any_friction |= wall.friction;
+        terms.push_back(std::make_unique<WallContactTerm>(radius, wall));
+        effects.push_back("wall contact");
+      }
+    if (con.self_contact)
+      {
+        ContactLaw self = law;
+        self.coefficients.mu_static = fr.static_coefficient;
+        self.coefficients.mu_dynamic = fr.dynamic_coefficient;
+        self.friction = keep || fr.static_coefficient > 0.0;
+        any_friction |= self.friction;
+        const int exclusion = std::max(1, static_cast<int>(std::ceil(con.exclusion_length / lambda0 - 1e-9)));
+        auto s = std::make_unique<SelfContactTerm>(self, con.skin, exclusion);
+        self_contact = s.get();
+        terms.push_back(std::move(s));
+        effects.push_back("self contact");
+      }
+    if (any_friction)
+      effects.push_back("friction");
+    if (con.wall_contact || con.self_contact)
+      omega2 += 4.0 * kn / mass + (any_friction ? 2.0 * law.coefficients.tangential_stiffness / mass : 0.0);
+    effects.push_back("inertia");
+
+    dt = scene.discrete.time_step > 0.0 ? scene.discrete.time_step
+                                        : scene.discrete.time_step_factor * 2.0 / std::sqrt(omega2);
+  }
+
+  ChainModel::~ChainModel() = default;
+
+  void ChainModel::place_initial_wire(const scene::Scene &scene)
+  {
+    const int n0 = static_cast<int>(std::lround(2.0 * radius / lambda0));
+    const int extra = (nodes.capacity() - (n0 + 1 + 4)) / 2;
+    nodes.first = extra;
+    left_origin = nodes.first + 1;
+    right_origin = left_origin + n0;
+    nodes.last = right_origin + 2;
+    for (int k = nodes.first; k <= left_origin; ++k)
+      nodes.x[k] = channels.position(Side::left, (k - left_origin) * lambda0, 0.0);
+    for (int k = right_origin; k < nodes.last; ++k)
+      nodes.x[k] = channels.position(Side::right, (right_origin - k) * lambda0, 0.0);
+
+    // A smooth random perturbation: the five lowest modes of a pinned beam
+    // with random amplitudes. The raw 32-bit draws of mt19937 are the same
+    // on every platform, so a seed gives the same wire everywhere.
+    std::mt19937 gen(scene.injection.seed);
+    double amp[5];
+    for (int m = 0; m < 5; ++m)
+      amp[m] = (2.0 * (gen() / 4294967295.0) - 1.0) / (m + 1);
+    for (int k = left_origin + 1; k < right_origin; ++k)
+      {
+        const double xi = (k - left_origin) * lambda0;
+        double y = 0.0;
+        for (int m = 0; m < 5; ++m)
+          y += amp[m] * std::sin((m + 1) * M_PI * xi / (2.0 * radius));
+        nodes.x[k] = {xi - radius, scene.injection.perturbation * y};
+      }
+    for (int k = nodes.first; k < nodes.last; ++k)
+      nodes.v[k] = Vec2{}; // the channels start from rest
+  }
+
+  void ChainModel::feed_channels()
+  {
+    const double v = channels.injection_speed(t);
+    // The innermost channel node is released once it has passed the inlet;
+    // a new node enters at the back of the channel, so each channel always
+    // holds two nodes in line: position and tangent stay clamped.
+    while (channels.depth(Side::left, nodes.x[nodes.first + 1]) > 0.0)
+      {
+        if (nodes.first == 0)
+          throw std::runtime_error("chain storage exhausted at the left channel");
+        const int k = --nodes.first;
+        nodes.x[k] = channels.position(Side::left, (k - left_origin) * lambda0, t);
+        nodes.v[k] = v * channels.axis(Side::left);
+        ledger.injection_work += 0.5 * nodes.node_mass * v * v;
+      }
+    while (channels.depth(Side::right, nodes.x[nodes.last - 2]) > 0.0)
+      {
+        if (nodes.last == nodes.capacity())
+          throw std::runtime_error("chain storage exhausted at the right channel");
+        const int k = nodes.last++;
+        nodes.x[k] = channels.position(Side::right, (right_origin - k) * lambda0, t);
+        nodes.v[k] = v * channels.axis(Side::right);
+        ledger.injection_work += 0.5 * nodes.node_mass * v * v;
+      }
+  }
+
+  void ChainModel::step()
+  {
+    auto &c = nodes;
+    std::fill(c.f.begin() + c.first, c.f.begin() + c.last, Vec2{});
+    std::fill(c.contact_force.begin() + c.first, c.contact_force.begin() + c.last, 0.0);
+    step_energy = StepEnergy{};
+    for (auto &term : terms)
+      term->add_forces(c, dt, step_energy);
+
+    // The channel holds its nodes on their prescribed path: it supplies
+    // minus the force the wire exerts on them.
+    const Vec2 al = channels.axis(Side::left), ar = channels.axis(Side::right);
+    inlet_force[0] = -dot(c.f[c.first] + c.f[c.first + 1], al);
+    inlet_force[1] = -dot(c.f[c.last - 1] + c.f[c.last - 2], ar);
+    // Work of the channels over the step: force times the exact injected length.
+    ledger.injection_work +=
+      (inlet_force[0] + inlet_force[1]) * (channels.injected_per_channel(t + dt) - channels.injected_per_channel(t));
+
+    const double inv_m = 1.0 / c.node_mass;
+    double kinetic = 0.0;
+    for (int k = c.first + c.n_prescribed; k < c.last - c.n_prescribed; ++k)
+      {
+        c.v[k] += (dt * inv_m) * c.f[k];
+        c.x[k] += dt * c.v[k];
+        kinetic += 0.5 * c.node_mass * norm_square(c.v[k]);
+      }
+    t += dt;
+    ++steps;
+    const double vt = channels.injection_speed(t);
+    for (int k = c.first; k < c.first + c.n_prescribed; ++k)
+      {
+        c.x[k] = channels.position(Side::left, (k - left_origin) * lambda0, t);
+        c.v[k] = vt * al;
+      }
+    for (int k = c.last - c.n_prescribed; k < c.last; ++k)
+      {
+        c.x[k] = channels.position(Side::right, (right_origin - k) * lambda0, t);
+        c.v[k] = vt * ar;
+      }
+    feed_channels();
+    for (auto &term : terms)
+      term->commit();
+
+    ledger.stretching = step_energy.stretching;
+    ledger.bending = step_energy.bending;
+    ledger.contact = step_energy.contact;
+    ledger.kinetic = kinetic;
+    ledger.plastic += step_energy.plastic_work;
+    ledger.damping += step_energy.damping_work;
+    ledger.friction += step_energy.friction_work - (step_energy.friction_stored - ledger.friction_stored);
+    ledger.friction_stored = step_energy.friction_stored;
+  }
+
+  bool ChainModel::finite() const
+  {
+    for (int k = nodes.first; k < nodes.last; ++k)
+      if (!std::isfinite(nodes.x[k].x) || !std::isfinite(nodes.x[k].y) || !std::isfinite(nodes.v[k].x) ||
+          !std::isfinite(nodes.v[k].y))
+        return false;
+    return true;
+  }
+
+  analysis::WireState ChainModel::wire_state() const
+  {
+    analysis::WireState w;
+    w.diameter = diameter;
+    w.cavity_radius = radius;
+    w.time = t;
+    w.injected_length = injected_length();
+    const int k0 = nodes.first + 1, k1 = nodes.last - 2; // the nodes at the inlets
+    const int n = k1 - k0 + 1;
+    w.points.resize(n);
+    w.arc_length.resize(n);
+    w.curvature.assign(n, 0.0);
+    w.plastic_curvature.assign(n, 0.0);
+    w.bending_energy.assign(n, 0.0);
+    w.contact_force.resize(n);
+    for (int k = k0; k <= k1; ++k)
+      {
+        const int p = k - k0;
+        w.points[p] = nodes.x[k];
+        w.arc_length[p] = p * lambda0;
+        w.contact_force[p] = nodes.contact_force[k];
+        if (bending)
+          {
+            const double zeta = BendingTerm::turning_angle(nodes, k);
+            const double zp = bending->plastic_angle(k);
+            w.curvature[p] = zeta / lambda0;
+            w.plastic_curvature[p] = zp / lambda0;
+            w.bending_energy[p] = 0.5 * k2 * (zeta - zp) * (zeta - zp);
+          }
+      }
+    if (self_contact)
+      for (const auto &a : self_contact->active_pairs())
+        {
+          analysis::SelfContact sc;
+          sc.s_a = (a.i - k0 + a.s) * lambda0;
+          sc.s_b = (a.j - k0 + a.t) * lambda0;
+          sc.point_a = std::clamp(static_cast<int>(std::lround(a.i - k0 + a.s)), 0, n - 1);
+          sc.point_b = std::clamp(static_cast<int>(std::lround(a.j - k0 + a.t)), 0, n - 1);
+          sc.x_a = (1.0 - a.s) * nodes.x[a.i] + a.s * nodes.x[a.i + 1];
+          sc.x_b = (1.0 - a.t) * nodes.x[a.j] + a.t * nodes.x[a.j + 1];
+          sc.normal_force = a.normal_force;
+          w.self_contacts.push_back(sc);
+        }
+    return w;
+  }
+} // namespace wirefem::discrete

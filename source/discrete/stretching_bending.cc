@@ -1,0 +1,98 @@
+#include <wirefem/discrete/terms.h>
+
+#include <cmath>
+
+namespace wirefem::discrete
+{
+  using geometry::Vec2;
+
+  void StretchingTerm::add_forces(Chain &c, double, StepEnergy &e)
+  {
+    for (int k = c.first; k < c.last - 1; ++k)
+      {
+        const Vec2 d = c.x[k + 1] - c.x[k];
+        const double len = norm(d);
+        const double stretch = len - c.lambda0;
+        const Vec2 fk = (k1 * stretch / len) * d; // pulls k towards k+1 when stretched
+        c.f[k] += fk;
+        c.f[k + 1] -= fk;
+        e.stretching += 0.5 * k1 * stretch * stretch;
+      }
+  }
+
+  BendingTerm::BendingTerm(const material::MomentCurvatureLaw &law,
+                           const double rotational_damping,
+                           const int capacity)
+    : law(law)
+    , damping(rotational_damping)
+  {
+    if (law.is_plastic())
+      {
+        state.resize(capacity);
+        trial_state.resize(capacity);
+      }
+  }
+
+  double BendingTerm::turning_angle(const Chain &c, const int k)
+  {
+    const Vec2 a = c.x[k] - c.x[k - 1];
+    const Vec2 b = c.x[k + 1] - c.x[k];
+    return std::atan2(cross(a, b), dot(a, b));
+  }
+
+  void BendingTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
+  {
+    const bool plastic = !state.empty();
+    for (int k = c.first + 1; k < c.last - 1; ++k)
+      {
+        const Vec2 a = c.x[k] - c.x[k - 1];
+        const Vec2 b = c.x[k + 1] - c.x[k];
+        const double zeta = std::atan2(cross(a, b), dot(a, b));
+        // zeta = angle(b) - angle(a); d angle(u)/du = perp(u)/|u|^2.
+        const Vec2 ga = (1.0 / norm_square(a)) * perp(a);
+        const Vec2 gb = (1.0 / norm_square(b)) * perp(b);
+        const Vec2 g_prev = ga, g_next = gb, g_mid = -(ga + gb);
+        double moment;
+        if (plastic)
+          {
+            const auto r = law.evaluate(zeta, state[k]);
+            trial_state[k] = r.state;
+            moment = r.moment;
+            e.plastic_work += r.plastic_work;
+            e.bending += law.elastic_energy(zeta, r.state);
+          }
+        else
+          {
+            moment = law.elastic_stiffness() * zeta;
+            e.bending += 0.5 * moment * zeta;
+          }
+        if (damping > 0.0)
+          {
+            const double rate =
+              dot(g_prev, c.v[k - 1]) + dot(g_mid, c.v[k]) + dot(g_next, c.v[k + 1]);
+            moment += damping * rate;
+            e.damping_work += damping * rate * rate * dt;
+          }
+        c.f[k - 1] -= moment * g_prev;
+        c.f[k] -= moment * g_mid;
+        c.f[k + 1] -= moment * g_next;
+      }
+  }
+
+  void BendingTerm::commit()
+  {
+    // No copy needed: add_forces writes the trial state of every interior
+    // node, and nodes that are not interior yet hold zero state in both.
+    state.swap(trial_state);
+  }
+
+  void DampingTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
+  {
+    const double cm = gamma * c.node_mass;
+    for (int k = c.first + c.n_prescribed; k < c.last - c.n_prescribed; ++k)
+      {
+        c.f[k] -= cm * c.v[k];
+        e.damping_work += cm * norm_square(c.v[k]) * dt;
+      }
+  }
+} // namespace wirefem::discrete

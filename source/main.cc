@@ -1,0 +1,63 @@
+// The wirefem executable: reads a scene, runs it, writes the output.
+// Exit status: 0 finished, 2 bad input, 3 stopped by a numerical limit.
+#include <wirefem/scene/scene_reader.h>
+#include <wirefem/simulation/simulation.h>
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+int main(int argc, char **argv)
+{
+  CLI::App app{"wirefem: a wire pushed from two channels into a circular cavity until it jams.\n"
+               "Example: wirefem prm/classic.prm --set \"Contact/Friction/Static coefficient=0.2\""};
+  std::string prm_file;
+  std::vector<std::string> overrides;
+  bool print = false;
+  app.add_option("scene", prm_file, "Scene file (.prm, deal.II ParameterHandler format)");
+  app.add_option("--set", overrides, "Override a key: \"Section/Key=value\" (repeatable)")->allow_extra_args(false)->take_all();
+  app.add_flag("--print-parameters", print, "Print every key with its default and documentation");
+  try
+    {
+      app.parse(argc, argv);
+    }
+  catch (const CLI::CallForHelp &e)
+    {
+      return app.exit(e);
+    }
+  catch (const CLI::ParseError &e)
+    {
+      std::cerr << "wirefem: error: " << e.what() << " (see --help)\n";
+      return 2;
+    }
+  if (print)
+    {
+      wirefem::scene::print_parameters(std::cout);
+      return 0;
+    }
+  if (prm_file.empty())
+    {
+      std::cerr << "wirefem: error: no scene file given (see --help)\n";
+      return 2;
+    }
+  wirefem::scene::Scene scene;
+  try
+    {
+      scene = wirefem::scene::read_scene(prm_file, overrides);
+    }
+  catch (const wirefem::scene::InputError &e)
+    {
+      std::cerr << "wirefem: error: " << e.what() << '\n';
+      return 2;
+    }
+  try
+    {
+      const auto result = wirefem::simulation::run(scene);
+      return result.failed ? 3 : 0;
+    }
+  catch (const std::exception &e)
+    {
+      std::cerr << "wirefem: error: " << e.what() << '\n';
+      return 3;
+    }
+}

@@ -1,0 +1,437 @@
+#include <wirefem/scene/scene_reader.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+namespace wirefem::scene
+{
+  namespace
+  {
+    using dealii::ParameterHandler;
+    namespace Patterns = dealii::Patterns;
+
+    std::string trim(const std::string &s)
+    {
+      const auto b = s.find_first_not_of(" \t\r\n");
+      if (b == std::string::npos)
+        return "";
+      const auto e = s.find_last_not_of(" \t\r\n");
+      return s.substr(b, e - b + 1);
+    }
+
+    std::vector<std::string> split_path(const std::string &key)
+    {
+      std::vector<std::string> parts;
+      std::stringstream ss(key);
+      std::string part;
+      while (std::getline(ss, part, '/'))
+        parts.push_back(trim(part));
+      return parts;
+    }
+
+    // ParameterHandler only Asserts (debug builds) on undeclared keys, so the
+    // reader keeps its own table of declared keys and their patterns: every
+    // value is checked here before it reaches the handler.
+    class Declarations
+    {
+    public:
+      explicit Declarations(ParameterHandler &prm) : prm(prm) {}
+
+      void declare(const std::string &path,
+                   const std::string &default_value,
+                   const Patterns::PatternBase &pattern,
+                   const std::string &doc)
+      {
+        auto parts = split_path(path);
+        const std::string name = parts.back();
+        parts.pop_back();
+        for (const auto &s : parts)
+          prm.enter_subsection(s);
+        prm.declare_entry(name, default_value, pattern, doc);
+        for (std::size_t i = 0; i < parts.size(); ++i)
+          prm.leave_subsection();
+        table[canonical(path)] = {path, pattern.clone()};
+      }
+
+      /// Sets `key` to `value`; `where` names the file (and line) for errors.
+      void set(const std::string &where, const std::string &key, const std::string &value)
+      {
+        const auto it = table.find(canonical(key));
+        if (it == table.end())
+          throw InputError(where + ": " + key + ": no such key (see --print-parameters)");
+        if (!it->second.pattern->match(value))
+          throw InputError(where + ": " + it->second.path + ": '" + value +
+                           "' is not a valid value; expected " +
+                           it->second.pattern->description(Patterns::PatternBase::Text));
+        auto parts = split_path(it->second.path);
+        const std::string name = parts.back();
+        parts.pop_back();
+        for (const auto &s : parts)
+          prm.enter_subsection(s);
+        prm.set(name, value);
+        for (std::size_t i = 0; i < parts.size(); ++i)
+          prm.leave_subsection();
+      }
+
+      std::string get(const std::string &path) const
+      {
+        auto parts = split_path(path);
+        const std::string name = parts.back();
+        parts.pop_back();
+        for (const auto &s : parts)
+          prm.enter_subsection(s);
+        const std::string value = prm.get(name);
+        for (std::size_t i = 0; i < parts.size(); ++i)
+          prm.leave_subsection();
+        return value;
+      }
+
+      double get_double(const std::string &path) const { return std::stod(get(path)); }
+      bool get_bool(const std::string &path) const
+      {
+        const std::string v = get(path);
+        return v == "true" || v == "yes" || v == "1";
+      }
+
+    private:
+      // Keys match regardless of spacing around '/' and of case, so that
+      // "contact/friction/static coefficient" is accepted on the command line.
+      static std::string canonical(const std::string &key)
+      {
+        std::string out;
+        for (const auto &p : split_path(key))
+          {
+            if (!out.empty())
+              out += '/';
+            for (const char c : p)
+              out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+          }
+        return out;
+      }
+
+      struct Entry
+      {
+        std::string path;
+        std::unique_ptr<Patterns::PatternBase> pattern;
+      };
+      ParameterHandler &prm;
+      std::map<std::string, Entry> table;
+    };
+
+    void declare_all(Declarations &d)
+    {
+      const auto any_double = Patterns::Double();
+      const auto positive = Patterns::Double(0.0);
+      const auto boolean = Patterns::Bool();
+
+      d.declare("Model", "discrete", Patterns::Selection("discrete|fem"),
+                "Wire model: 'discrete' (the paper's spring chain) or 'fem' (geometrically exact rod).");
+      d.declare("Cavity/Radius", "10", any_double,
+                "Cavity radius r in units of the wire diameter d, i.e. f = r/d. Must be > 1.");
+
+      d.declare("Wire/Axial stiffness", "1000", any_double,
+                "EA (force). The discrete model uses k1 = EA/lambda_0.");
+      d.declare("Wire/Bending stiffness", "60", any_double,
+                "EI (force d^2). The discrete model uses k2 = EI/lambda_0.");
+      d.declare("Wire/Mass per length", "1", any_double, "rho A (mass per unit length d).");
+      d.declare("Wire/Plasticity/Enabled", "true", boolean,
+                "Elastoplastic bending. The wire is elastic anyway when Yield curvature * lambda_0 >= pi.");
+      d.declare("Wire/Plasticity/Yield curvature", "0.04", any_double,
+                "kappa_theta (1/d): yield moment EI*kappa_theta; alpha_theta = kappa_theta*lambda_0. "
+                "Paper: 0 ... 0.06; pi/lambda_0 is elastic.");
+      d.declare("Wire/Plasticity/Hardening slope", "0.05", any_double,
+                "s in [0, 1]: post-yield slope s*EI of the moment-curvature law; unloading with slope EI.");
+      d.declare("Wire/Plasticity/Hardening", "kinematic", Patterns::Selection("kinematic|isotropic"),
+                "Linear kinematic (default: the yield range of width 2 M_y translates) or linear "
+                "isotropic (the yield range grows). The paper does not say which.");
+
+      d.declare("Contact/Wall contact", "true", boolean, "Keep the wire surface inside the cavity.");
+      d.declare("Contact/Self contact", "true", boolean, "Wire-wire contact.");
+      d.declare("Contact/Normal stiffness", "2000", any_double,
+                "Penalty k_n (force/d): normal force k_n * overlap. Overlap ~ force/k_n, so "
+                "k_n = 2000 keeps it below 0.025 d up to the default jamming force 50.");
+      d.declare("Contact/Skin", "0.5", any_double,
+                "Verlet skin (d): candidates are refreshed once a node moved more than skin/2.");
+      d.declare("Contact/Exclusion length", "3", any_double,
+                "Segments closer than this arc length (d) along the wire never touch each other.");
+      d.declare("Contact/Friction/Static coefficient", "0", any_double,
+                "mu_st, wire-wire and (unless given) wire-wall.");
+      d.declare("Contact/Friction/Dynamic coefficient", "-1", any_double,
+                "mu_d <= mu_st. Negative: 0.8 * Static coefficient (the paper gives no value).");
+      d.declare("Contact/Friction/Wall static coefficient", "-1", any_double,
+                "mu_st at the wall. Negative: same as Static coefficient.");
+      d.declare("Contact/Friction/Wall dynamic coefficient", "-1", any_double,
+                "mu_d at the wall. Negative: 0.8 * Wall static coefficient.");
+      d.declare("Contact/Friction/Threshold velocity", "0.01", any_double,
+                "v_th (d/time): a sliding contact sticks again below this tangential speed.");
+      d.declare("Contact/Friction/Tangential stiffness ratio", "0.5", any_double,
+                "k_t/k_n of the spring that carries static friction while a contact sticks.");
+
+      d.declare("Injection/Speed", "1", any_double,
+                "Injection speed of each channel (d/time). 1 is 1/30 of the axial wave speed "
+                "sqrt(EA/rho A) at the paper's values, so pushing is slow compared with stretching.");
+      d.declare("Injection/Ramp time", "10", any_double,
+                "Time over which the injection speed rises smoothly (1 - cos) from 0 to Speed: a sudden "
+                "start would send a compression wave of force sqrt(EA rho A) * Speed into the wire.");
+      d.declare("Injection/Seed", "1", Patterns::Integer(0), "Seed of the symmetry-breaking perturbation.");
+      d.declare("Injection/Perturbation", "0.1", any_double,
+                "Amplitude (d) of the random transverse perturbation of the initial straight wire.");
+      d.declare("Injection/Maximum packing density", "0.6", any_double,
+                "Stop at this phi = d L/(pi r^2) even if not jammed. Must exceed the initial 2d/(pi r).");
+      d.declare("Injection/Jamming force", "50", any_double,
+                "Jammed when the inlet force (mean of both, averaged over Jamming window) exceeds this. "
+                "50 is 5% axial strain at EA = 1000: far above the loop-forming forces, below "
+                "forces at which the penalty overlap matters.");
+      d.declare("Injection/Jamming window", "1", any_double,
+                "Injected length (d) over which the inlet force is averaged for the jamming test.");
+      d.declare("Injection/Maximum time", "inf", Patterns::Anything(),
+                "Stop at this time ('inf': no limit).");
+
+      d.declare("Discrete/Segment length", "1", any_double, "lambda_0 (d): rest length of a spring.");
+      d.declare("Discrete/Time step", "0", any_double,
+                "Explicit time step. 0: Time step factor * the stability limit of the stiffest term.");
+      d.declare("Discrete/Time step factor", "0.25", any_double,
+                "Fraction of the estimated stability limit 2/omega_max used when Time step = 0.");
+      d.declare("Discrete/Translational damping", "0.05", any_double,
+                "gamma (1/time): viscous force -gamma m v on every free node. Small: the decay time "
+                "1/gamma = 20 is long against a loop's bending period.");
+      d.declare("Discrete/Rotational damping", "0.5", any_double,
+                "c (force d time): viscous moment -c dzeta/dt at each rotational spring; damps the "
+                "highest bending modes (period ~0.2) and leaves slow loop motion alone.");
+
+      d.declare("Output/Directory", "", Patterns::Anything(),
+                "Where all output goes. Empty: output/<scene name>.");
+      d.declare("Output/Interval", "1", any_double, "Injected length (d) between rows of series.csv.");
+      d.declare("Output/VTU interval", "20", any_double,
+                "Injected length (d) between ParaView files; 0: only the final state.");
+      d.declare("Output/Picture size", "1000", Patterns::Integer(100, 10000), "final.png size in pixels.");
+      d.declare("Output/Progress", "auto", Patterns::Selection("auto|on|off"),
+                "One-line progress display: auto = on a terminal, periodic log lines otherwise.");
+
+      d.declare("Debug/Keep neutral effects", "false", boolean,
+                "Build friction and plasticity even when their parameters are neutral "
+                "(mu = 0, kappa_theta*lambda_0 >= pi); for checking that they change nothing.");
+    }
+
+    double parse_double_or_inf(const std::string &s) { return s == "inf" ? INFINITY : std::stod(s); }
+
+    void check(bool ok, const std::string &where, const std::string &key, const std::string &why)
+    {
+      if (!ok)
+        throw InputError(where + ": " + key + ": " + why);
+    }
+
+    Scene extract(const Declarations &d, const std::string &where)
+    {
+      Scene s;
+      s.model = d.get("Model") == "fem" ? ModelType::fem : ModelType::discrete;
+      s.cavity.radius = d.get_double("Cavity/Radius");
+      s.wire.axial_stiffness = d.get_double("Wire/Axial stiffness");
+      s.wire.bending_stiffness = d.get_double("Wire/Bending stiffness");
+      s.wire.mass_per_length = d.get_double("Wire/Mass per length");
+      auto &pl = s.wire.plasticity;
+      pl.enabled = d.get_bool("Wire/Plasticity/Enabled");
+      pl.yield_curvature = d.get_double("Wire/Plasticity/Yield curvature");
+      pl.hardening_slope = d.get_double("Wire/Plasticity/Hardening slope");
+      pl.hardening = d.get("Wire/Plasticity/Hardening") == "isotropic" ? Hardening::isotropic
+                                                                       : Hardening::kinematic;
+      auto &c = s.contact;
+      c.wall_contact = d.get_bool("Contact/Wall contact");
+      c.self_contact = d.get_bool("Contact/Self contact");
+      c.normal_stiffness = d.get_double("Contact/Normal stiffness");
+      c.skin = d.get_double("Contact/Skin");
+      c.exclusion_length = d.get_double("Contact/Exclusion length");
+      auto &f = c.friction;
+      f.static_coefficient = d.get_double("Contact/Friction/Static coefficient");
+      const double mud = d.get_double("Contact/Friction/Dynamic coefficient");
+      f.dynamic_coefficient = mud < 0 ? 0.8 * f.static_coefficient : mud;
+      const double wst = d.get_double("Contact/Friction/Wall static coefficient");
+      f.wall_static_coefficient = wst < 0 ? f.static_coefficient : wst;
+      const double wd = d.get_double("Contact/Friction/Wall dynamic coefficient");
+      f.wall_dynamic_coefficient = wd < 0 ? (wst < 0 ? f.dynamic_coefficient : 0.8 * wst) : wd;
+      f.threshold_velocity = d.get_double("Contact/Friction/Threshold velocity");
+      f.tangential_stiffness_ratio = d.get_double("Contact/Friction/Tangential stiffness ratio");
+      auto &in = s.injection;
+      in.speed = d.get_double("Injection/Speed");
+      in.ramp_time = d.get_double("Injection/Ramp time");
+      in.seed = static_cast<unsigned int>(std::stoul(d.get("Injection/Seed")));
+      in.perturbation = d.get_double("Injection/Perturbation");
+      in.maximum_packing_density = d.get_double("Injection/Maximum packing density");
+      in.jamming_force = d.get_double("Injection/Jamming force");
+      in.jamming_window = d.get_double("Injection/Jamming window");
+      try
+        {
+          in.maximum_time = parse_double_or_inf(d.get("Injection/Maximum time"));
+        }
+      catch (const std::exception &)
+        {
+          check(false, where, "Injection/Maximum time", "'" + d.get("Injection/Maximum time") +
+                                                          "' is not a number or 'inf'");
+        }
+      auto &ds = s.discrete;
+      ds.segment_length = d.get_double("Discrete/Segment length");
+      ds.time_step = d.get_double("Discrete/Time step");
+      ds.time_step_factor = d.get_double("Discrete/Time step factor");
+      ds.translational_damping = d.get_double("Discrete/Translational damping");
+      ds.rotational_damping = d.get_double("Discrete/Rotational damping");
+      auto &o = s.output;
+      o.directory = d.get("Output/Directory");
+      o.interval = d.get_double("Output/Interval");
+      o.vtu_interval = d.get_double("Output/VTU interval");
+      o.picture_size = std::stoi(d.get("Output/Picture size"));
+      o.progress = d.get("Output/Progress");
+      s.keep_neutral_effects = d.get_bool("Debug/Keep neutral effects");
+      return s;
+    }
+
+    // Values that each pass their pattern but make no physical sense, alone
+    // or together.
+    void validate(const Scene &s, const std::string &w)
+    {
+      check(s.model == ModelType::discrete, w, "Model", "'fem' is not available in this build yet");
+      check(s.cavity.radius > 1.0, w, "Cavity/Radius", "must be larger than 1 (the wire diameter)");
+      check(s.wire.axial_stiffness > 0, w, "Wire/Axial stiffness", "must be positive");
+      check(s.wire.bending_stiffness >= 0, w, "Wire/Bending stiffness", "must not be negative");
+      check(s.wire.mass_per_length > 0, w, "Wire/Mass per length", "must be positive");
+      const auto &pl = s.wire.plasticity;
+      check(pl.yield_curvature >= 0, w, "Wire/Plasticity/Yield curvature", "must not be negative");
+      check(pl.hardening_slope >= 0 && pl.hardening_slope <= 1, w, "Wire/Plasticity/Hardening slope",
+            "must be in [0, 1]");
+      const auto &c = s.contact;
+      check(c.normal_stiffness > 0, w, "Contact/Normal stiffness", "must be positive");
+      check(c.skin > 0, w, "Contact/Skin", "must be positive");
+      check(c.exclusion_length >= 0, w, "Contact/Exclusion length", "must not be negative");
+      const auto &f = c.friction;
+      check(f.static_coefficient >= 0, w, "Contact/Friction/Static coefficient", "must not be negative");
+      check(f.dynamic_coefficient >= 0, w, "Contact/Friction/Dynamic coefficient",
+            "must not be negative");
+      check(f.dynamic_coefficient <= f.static_coefficient, w, "Contact/Friction/Dynamic coefficient",
+            "mu_d = " + std::to_string(f.dynamic_coefficient) + " exceeds the static coefficient " +
+              std::to_string(f.static_coefficient));
+      check(f.wall_dynamic_coefficient <= f.wall_static_coefficient, w,
+            "Contact/Friction/Wall dynamic coefficient", "exceeds the wall static coefficient");
+      check(f.threshold_velocity >= 0, w, "Contact/Friction/Threshold velocity", "must not be negative");
+      check(f.tangential_stiffness_ratio > 0, w, "Contact/Friction/Tangential stiffness ratio",
+            "must be positive");
+      const auto &in = s.injection;
+      check(in.speed > 0, w, "Injection/Speed", "must be positive");
+      check(in.ramp_time >= 0, w, "Injection/Ramp time", "must not be negative");
+      check(in.perturbation >= 0, w, "Injection/Perturbation", "must not be negative");
+      const double phi0 = 2.0 * s.cavity.radius / (M_PI * s.cavity.radius * s.cavity.radius);
+      check(in.maximum_packing_density > phi0, w, "Injection/Maximum packing density",
+            "must exceed the initial packing density 2/(pi r) = " + std::to_string(phi0));
+      check(in.maximum_packing_density <= 1.0, w, "Injection/Maximum packing density",
+            "must not exceed 1");
+      check(in.jamming_force > 0, w, "Injection/Jamming force", "must be positive");
+      check(in.jamming_window > 0, w, "Injection/Jamming window", "must be positive");
+      check(in.maximum_time > 0, w, "Injection/Maximum time", "must be positive");
+      const auto &ds = s.discrete;
+      check(ds.segment_length > 0 && ds.segment_length <= 0.25 * s.cavity.radius, w,
+            "Discrete/Segment length", "must be in (0, r/4]");
+      const double n_segments = 2.0 * s.cavity.radius / ds.segment_length;
+      check(std::abs(n_segments - std::round(n_segments)) < 1e-9 * n_segments, w, "Discrete/Segment length",
+            "2 r / lambda_0 = " + std::to_string(n_segments) + " must be a whole number of segments");
+      check(ds.time_step >= 0, w, "Discrete/Time step", "must not be negative");
+      check(ds.time_step_factor > 0 && ds.time_step_factor < 1, w, "Discrete/Time step factor",
+            "must be in (0, 1)");
+      check(ds.translational_damping >= 0, w, "Discrete/Translational damping", "must not be negative");
+      check(ds.rotational_damping >= 0, w, "Discrete/Rotational damping", "must not be negative");
+      check(s.output.interval > 0, w, "Output/Interval", "must be positive");
+      check(s.output.vtu_interval >= 0, w, "Output/VTU interval", "must not be negative");
+    }
+
+    // A line-by-line reader of the prm format (subsection/end/set, '#'
+    // comments, '\' continuation) so that errors carry the file and line.
+    void read_prm_file(Declarations &d, const std::string &file)
+    {
+      if (!std::filesystem::is_regular_file(file))
+        throw InputError(file + ": cannot open the scene file (no such file)");
+      std::ifstream in(file);
+      if (!in)
+        throw InputError(file + ": cannot open the scene file");
+      std::vector<std::string> path;
+      std::string raw, line;
+      int line_no = 0, start_line = 0;
+      while (std::getline(in, raw))
+        {
+          ++line_no;
+          if (line.empty())
+            start_line = line_no;
+          const auto hash = raw.find('#');
+          std::string part = trim(hash == std::string::npos ? raw : raw.substr(0, hash));
+          if (!part.empty() && part.back() == '\\')
+            {
+              line += part.substr(0, part.size() - 1) + " ";
+              continue;
+            }
+          line += part;
+          const std::string where = file + ":" + std::to_string(start_line);
+          const std::string l = trim(line);
+          line.clear();
+          if (l.empty())
+            continue;
+          if (l.rfind("subsection ", 0) == 0)
+            path.push_back(trim(l.substr(11)));
+          else if (l == "end")
+            {
+              if (path.empty())
+                throw InputError(where + ": 'end' without a matching subsection");
+              path.pop_back();
+            }
+          else if (l.rfind("set ", 0) == 0)
+            {
+              const auto eq = l.find('=');
+              if (eq == std::string::npos)
+                throw InputError(where + ": '" + l + "': expected 'set Key = value'");
+              std::string key;
+              for (const auto &p : path)
+                key += p + "/";
+              key += trim(l.substr(4, eq - 4));
+              d.set(where, key, trim(l.substr(eq + 1)));
+            }
+          else
+            throw InputError(where + ": '" + l + "': expected 'subsection', 'set' or 'end'");
+        }
+      if (!path.empty())
+        throw InputError(file + ": subsection '" + path.back() + "' is not closed with 'end'");
+    }
+  } // namespace
+
+  Scene read_scene(const std::string &prm_file, const std::vector<std::string> &overrides)
+  {
+    ParameterHandler prm;
+    Declarations d(prm);
+    declare_all(d);
+    if (!prm_file.empty())
+      read_prm_file(d, prm_file);
+    const std::string file_label = prm_file.empty() ? std::string("(no scene file)") : prm_file;
+    for (const auto &o : overrides)
+      {
+        const auto eq = o.find('=');
+        if (eq == std::string::npos)
+          throw InputError(file_label + " (--set): '" + o + "': expected \"Section/Key=value\"");
+        d.set(file_label + " (--set)", trim(o.substr(0, eq)), trim(o.substr(eq + 1)));
+      }
+    Scene s = extract(d, file_label);
+    s.prm_file = prm_file;
+    s.name = prm_file.empty() ? "default" : std::filesystem::path(prm_file).stem().string();
+    validate(s, file_label);
+    if (s.output.directory.empty())
+      s.output.directory = "output/" + s.name;
+    return s;
+  }
+
+  void print_parameters(std::ostream &out)
+  {
+    ParameterHandler prm;
+    Declarations d(prm);
+    declare_all(d);
+    prm.print_parameters(out, ParameterHandler::PRM | ParameterHandler::KeepDeclarationOrder);
+  }
+} // namespace wirefem::scene

@@ -1,0 +1,223 @@
+#include <wirefem/analysis/observables.h>
+#include <wirefem/discrete/chain_model.h>
+#include <wirefem/io/picture.h>
+#include <wirefem/io/progress.h>
+#include <wirefem/io/series_writer.h>
+#include <wirefem/io/vtu_writer.h>
+#include <wirefem/simulation/simulation.h>
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <iostream>
+#include <stdexcept>
+
+namespace wirefem::simulation
+{
+  namespace
+  {
+    const std::vector<std::string> columns = {
+      "time", "injected_length", "phi", "force", "force_left", "force_right", "loops", "contacts",
+      "wall_contacts", "energy_bending", "energy_stretching", "energy_kinetic", "energy_contact",
+      "plastic_dissipation", "friction_dissipation", "damping_dissipation", "injection_work",
+      "energy_balance_error", "max_penetration", "symmetry", "curvature_ratio"};
+
+    std::string join(const std::vector<std::string> &v)
+    {
+      std::string s;
+      for (const auto &x : v)
+        s += (s.empty() ? "" : ", ") + x;
+      return s;
+    }
+  } // namespace
+
+  RunResult run(const scene::Scene &scene)
+  {
+    if (scene.model != scene::ModelType::discrete)
+      throw std::runtime_error("Model = fem is not available yet in this build");
+
+    const auto wall_start = std::chrono::steady_clock::now();
+    discrete::ChainModel model(scene);
+    const double r = scene.cavity.radius;
+    const auto &inj = scene.injection;
+
+    namespace fs = std::filesystem;
+    const fs::path dir(scene.output.directory);
+    fs::create_directories(dir);
+    std::cout << fmt::format("wirefem: scene {} ({} model), f = r/d = {}, lambda_0 = {}, dt = {:.4g}\n",
+                             scene.name, "discrete", r, scene.discrete.segment_length, model.time_step())
+              << "active effects: " << join(model.active_effects()) << '\n'
+              << "output: " << dir.string() << std::endl;
+
+    io::SeriesWriter series((dir / "series.csv").string(), columns);
+    io::PvdCollection pvd((dir / "wire.pvd").string());
+    io::Progress progress(scene.output.progress);
+
+    RunResult result;
+    double next_row = model.injected_length();
+    double next_vtu = model.injected_length();
+    int vtu_count = 0;
+    // Running mean of the inlet force over the jamming window, in injected
+    // length: a step that injects dL moves the mean by dL/window.
+    double force_mean = 0.0;
+    double previous_length = model.injected_length();
+
+    auto write_vtu = [&](const analysis::WireState &w) {
+      const std::string name = fmt::format("wire_{:05d}.vtu", vtu_count++);
+      io::write_vtu((dir / name).string(), w);
+      pvd.add(w.time, name);
+      pvd.write();
+    };
+    auto observe = [&](bool force_vtu) {
+      const auto w = model.wire_state();
+      const auto morph = analysis::classify(w);
+      const int loops = analysis::count_loops(w);
+      const auto &e = model.energies();
+      const auto &s = model.last_step();
+      const double phi = analysis::packing_density(w.injected_length, r);
+      series.write_row({model.time(), w.injected_length, phi,
+                        0.5 * (model.force_left() + model.force_right()), model.force_left(),
+                        model.force_right(), double(loops), double(s.n_self_contacts),
+                        double(s.n_wall_contacts), e.bending, e.stretching, e.kinetic, e.contact,
+                        e.plastic, e.friction, e.damping, e.injection_work, e.balance_error(),
+                        s.max_penetration, morph.symmetry, morph.curvature_ratio});
+      if (force_vtu || (scene.output.vtu_interval > 0 && w.injected_length >= next_vtu))
+        {
+          write_vtu(w);
+          next_vtu += scene.output.vtu_interval;
+        }
+      result.loops = loops;
+      result.morphology = morph.phase;
+      result.symmetry = morph.symmetry;
+      return w;
+    };
+
+    const double phi_max = inj.maximum_packing_density;
+    while (true)
+      {
+        try
+          {
+            model.step();
+          }
+        catch (const std::runtime_error &e)
+          {
+            result.failed = true;
+            result.stop_reason = e.what();
+            break;
+          }
+        const auto &s = model.last_step();
+        result.max_penetration = std::max(result.max_penetration, s.max_penetration);
+        const double L = model.injected_length();
+        const double mean_weight = std::min(1.0, (L - previous_length) / inj.jamming_window);
+        previous_length = L;
+        force_mean += mean_weight * (0.5 * (model.force_left() + model.force_right()) - force_mean);
+        const double phi = analysis::packing_density(L, r);
+        if (L >= next_row)
+          {
+            observe(false);
+            next_row += scene.output.interval;
+          }
+        if (model.n_steps() % 256 == 0 && !model.finite())
+          {
+            result.failed = true;
+            result.stop_reason = "numerical blow-up: non-finite positions (reduce Discrete/Time step factor)";
+            break;
+          }
+        if (s.max_penetration > 0.5)
+          {
+            result.failed = true;
+            result.stop_reason = fmt::format(
+              "contact overlap {:.3f} d exceeds 0.5 d: Contact/Normal stiffness too low for the forces, "
+              "or the time step too large", s.max_penetration);
+            break;
+          }
+        if (force_mean > inj.jamming_force)
+          {
+            result.jammed = true;
+            result.stop_reason = fmt::format("jammed: mean inlet force {:.4g} > Injection/Jamming force {:.4g}",
+                                             force_mean, inj.jamming_force);
+            break;
+          }
+        if (phi >= phi_max)
+          {
+            result.stop_reason = fmt::format("reached Injection/Maximum packing density {:.4g}", phi_max);
+            break;
+          }
+        if (model.time() >= inj.maximum_time)
+          {
+            result.stop_reason = fmt::format("reached Injection/Maximum time {:.4g}", inj.maximum_time);
+            break;
+          }
+        if (model.n_steps() % 64 == 0)
+          {
+            const double elapsed =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+            const double rate = model.n_steps() / std::max(elapsed, 1e-9);
+            const double phi0 = analysis::packing_density(2.0 * r, r);
+            const double eta = (phi > phi0) ? elapsed * (phi_max - phi) / (phi - phi0) : 0.0;
+            progress.update(fmt::format("phi {:.4f}  L {:.1f}  F {:.3g}  contacts {}  {:.0f} steps/s  "
+                                        "ETA(phi_max) {:.0f} s",
+                                        phi, L, force_mean, s.n_self_contacts + s.n_wall_contacts, rate,
+                                        eta));
+          }
+      }
+    progress.finish();
+
+    const bool finite = model.finite();
+    if (!finite && !result.failed)
+      {
+        result.failed = true;
+        result.stop_reason = "numerical blow-up: non-finite positions";
+      }
+    const auto w = finite ? observe(true) : model.wire_state();
+    result.phi_final = analysis::packing_density(model.injected_length(), r);
+    result.steps = model.n_steps();
+    result.energy_balance_error = model.energies().balance_error();
+    result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    if (finite)
+      {
+        io::PictureOptions opt;
+        opt.size_px = scene.output.picture_size;
+        opt.caption = fmt::format("{}  phi = {:.3f}  loops = {}  {}", scene.name, result.phi_final,
+                                  result.loops, result.morphology);
+        io::write_pictures(w, (dir / "final.png").string(), (dir / "final.svg").string(), opt);
+      }
+
+    const auto &e = model.energies();
+    nlohmann::json j;
+    j["model"] = "discrete";
+    j["scene"] = scene.name;
+    j["phi_final"] = result.phi_final;
+    j["injected_length"] = model.injected_length();
+    j["jammed"] = result.jammed;
+    j["failed"] = result.failed;
+    j["stop_reason"] = result.stop_reason;
+    j["loops"] = result.loops;
+    j["morphology"] = result.morphology.empty() ? "plastic" : result.morphology;
+    j["symmetry"] = result.symmetry;
+    j["steps"] = result.steps;
+    j["time"] = model.time();
+    j["time_step"] = model.time_step();
+    j["wall_time_s"] = result.wall_time_s;
+    j["active_effects"] = model.active_effects();
+    j["max_penetration"] = result.max_penetration;
+    j["energy"] = {{"injection_work", e.injection_work}, {"stretching", e.stretching}, {"bending", e.bending},
+                   {"contact", e.contact}, {"kinetic", e.kinetic}, {"friction_stored", e.friction_stored},
+                   {"plastic_dissipation", e.plastic}, {"friction_dissipation", e.friction},
+                   {"damping_dissipation", e.damping}, {"balance_error", e.balance_error()}};
+    j["force_final"] = 0.5 * (model.force_left() + model.force_right());
+    std::ofstream((dir / "summary.json").string()) << j.dump(2) << '\n';
+
+    std::cout << fmt::format("{}: {}\nphi = {:.4f}, loops = {}, morphology = {}, symmetry = {:.3f}, "
+                             "steps = {}, wall time = {:.1f} s, energy balance error = {:.2e}, "
+                             "max overlap = {:.4f} d\n",
+                             result.failed ? "stopped" : "finished", result.stop_reason, result.phi_final,
+                             result.loops, result.morphology, result.symmetry, result.steps,
+                             result.wall_time_s, result.energy_balance_error, result.max_penetration);
+    return result;
+  }
+} // namespace wirefem::simulation
