@@ -90,6 +90,10 @@ namespace wirefem::discrete
         auto s = std::make_unique<SelfContactTerm>(self, con.skin, exclusion);
         self_contact = s.get();
         terms.push_back(std::move(s));
+        const double zeta_max = std::min(2.0 * lambda0 / diameter, 2.0 * M_PI / 3.0);
+        const double k_limit = 0.25 * kn * lambda0 * lambda0;
+        terms.push_back(std::make_unique<CurvatureLimitTerm>(zeta_max, k_limit));
+        omega2 += 16.0 * k_limit / (mass * lambda0 * lambda0);
         effects.push_back("self contact");
       }
     if (any_friction)
@@ -182,11 +186,16 @@ namespace wirefem::discrete
 
     const double inv_m = 1.0 / c.node_mass;
     double kinetic = 0.0;
+    // Velocities live at half steps (v is v_{n-1/2} before the update and
+    // v_{n+1/2} after), so the kinetic energy at step n that the scheme
+    // conserves to second order with the potentials at x_n is
+    // 1/2 m v_{n-1/2} . v_{n+1/2}.
     for (int k = c.first + c.n_prescribed; k < c.last - c.n_prescribed; ++k)
       {
+        const Vec2 v_old = c.v[k];
         c.v[k] += (dt * inv_m) * c.f[k];
         c.x[k] += dt * c.v[k];
-        kinetic += 0.5 * c.node_mass * norm_square(c.v[k]);
+        kinetic += 0.5 * c.node_mass * dot(v_old, c.v[k]);
       }
     t += dt;
     ++steps;
@@ -211,7 +220,7 @@ namespace wirefem::discrete
     ledger.kinetic = kinetic;
     ledger.plastic += step_energy.plastic_work;
     ledger.damping += step_energy.damping_work;
-    ledger.friction += step_energy.friction_work - (step_energy.friction_stored - ledger.friction_stored);
+    ledger.friction += step_energy.friction_work;
     ledger.friction_stored = step_energy.friction_stored;
   }
 

@@ -16,21 +16,33 @@ namespace wirefem::discrete
   void WallContactTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
     const double half_d = 0.5 * law.diameter;
+    const double corner_x = std::sqrt(radius * radius - half_d * half_d);
     trial_history.clear();
     for (int k = c.first; k < c.last; ++k)
       {
         const Vec2 p = c.x[k];
-        // The wall has openings of width d where the channels enter; a node
-        // there is in the channel, not against the wall.
-        if (std::abs(p.y) < half_d && std::abs(p.x) > radius - law.diameter)
-          continue;
         const double dist = norm(p);
-        const double overlap = dist + half_d - radius;
-        if (overlap <= 0.0)
-          continue;
-        const Vec2 n = (1.0 / dist) * p; // outward wall normal
-        const double fn = law.normal_stiffness * overlap;
-        c.f[k] -= fn * n;
+        double overlap;
+        Vec2 n; // unit vector from the node towards the wall
+        if (std::abs(p.y) * radius < half_d * dist)
+          {
+            // Within an opening: the nearest wall is a corner of the mouth.
+            const Vec2 corner{p.x > 0.0 ? corner_x : -corner_x, p.y > 0.0 ? half_d : -half_d};
+            const Vec2 to_corner = corner - p;
+            const double dc = norm(to_corner);
+            overlap = half_d - dc;
+            if (overlap <= 0.0)
+              continue;
+            n = (1.0 / dc) * to_corner;
+          }
+        else
+          {
+            overlap = dist + half_d - radius;
+            if (overlap <= 0.0)
+              continue;
+            n = (1.0 / dist) * p;
+          }
+        const double fn = law.normal_stiffness * overlap;        c.f[k] -= fn * n;
         c.contact_force[k] += fn;
         e.contact += 0.5 * law.normal_stiffness * overlap * overlap;
         e.max_penetration = std::max(e.max_penetration, overlap);
@@ -43,11 +55,19 @@ namespace wirefem::discrete
             const auto r = contact::friction_update(
               law.coefficients, fn, vt, dt, it == history.end() ? contact::FrictionHistory{} : it->second);
             c.f[k] += r.force * t;
-            e.friction_work -= r.force * vt * dt;
+            e.friction_work += r.dissipated;
             e.friction_stored += 0.5 * law.coefficients.tangential_stiffness *
                                  r.history.elongation * r.history.elongation;
             trial_history[k] = r.history;
           }
+      }
+    if (law.friction)
+      {
+        // Nodes that left the wall release their sticking spring.
+        const double kt = law.coefficients.tangential_stiffness;
+        for (const auto &h : history)
+          if (trial_history.find(h.first) == trial_history.end())
+            e.friction_work += 0.5 * kt * h.second.elongation * h.second.elongation;
       }
   }
 
@@ -58,6 +78,7 @@ namespace wirefem::discrete
 
   SelfContactTerm::SelfContactTerm(const ContactLaw &law, const double skin, const int exclusion)
     : law(law)
+    , exclusion(exclusion)
     , broad(law.diameter, skin, exclusion)
   {}
 
@@ -74,8 +95,10 @@ namespace wirefem::discrete
         if (cp.distance >= law.diameter)
           continue;
         // A closest point at the far end of a segment is the near end of the
-        // next one, which reports the same contact (or a closer one).
-        if ((cp.s >= 1.0 && i < last_segment) || (cp.t >= 1.0 && j < last_segment))
+        // next one, which reports the same contact (or a closer one) - unless
+        // that next pair lies inside the exclusion window.
+        if ((cp.s >= 1.0 && i < last_segment && j - (i + 1) > exclusion) ||
+            (cp.t >= 1.0 && j < last_segment))
           continue;
         const double overlap = law.diameter - cp.distance;
         e.max_penetration = std::max(e.max_penetration, overlap);
@@ -95,17 +118,18 @@ namespace wirefem::discrete
             // segment pair: it keeps its history.
             contact::FrictionHistory old;
             for (const auto k : {key(i, j), key(i - 1, j), key(i + 1, j), key(i, j - 1), key(i, j + 1)})
-              if (const auto it = history.find(k); it != history.end())
+              if (const auto it = history.find(k); it != history.end() && !it->second.taken)
                 {
-                  old = it->second;
+                  old = it->second.history;
+                  it->second.taken = true;
                   break;
                 }
             const auto r = contact::friction_update(law.coefficients, fn, vt, dt, old);
             fa += r.force * t;
-            e.friction_work -= r.force * vt * dt;
+            e.friction_work += r.dissipated;
             e.friction_stored += 0.5 * law.coefficients.tangential_stiffness *
                                  r.history.elongation * r.history.elongation;
-            trial_history[key(i, j)] = r.history;
+            trial_history[key(i, j)] = {r.history, false};
           }
         c.f[i] += (1.0 - cp.s) * fa;
         c.f[i + 1] += cp.s * fa;
@@ -118,6 +142,15 @@ namespace wirefem::discrete
         active.push_back({i, j, cp.s, cp.t, fn});
       }
     e.n_self_contacts += static_cast<int>(active.size());
+    // Pairs that separated (or whose history no current pair took) release
+    // their sticking spring: that energy is dissipated.
+    const double kt = law.coefficients.tangential_stiffness;
+    for (auto &h : history)
+      {
+        if (!h.second.taken)
+          e.friction_work += 0.5 * kt * h.second.history.elongation * h.second.history.elongation;
+        h.second.taken = false; // add_forces may be evaluated again before commit
+      }
   }
 
   void SelfContactTerm::commit()

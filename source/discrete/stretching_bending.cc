@@ -86,6 +86,26 @@ namespace wirefem::discrete
     state.swap(trial_state);
   }
 
+  void CurvatureLimitTerm::add_forces(Chain &c, double, StepEnergy &e)
+  {
+    for (int k = c.first + 1; k < c.last - 1; ++k)
+      {
+        const Vec2 a = c.x[k] - c.x[k - 1];
+        const Vec2 b = c.x[k + 1] - c.x[k];
+        const double zeta = std::atan2(cross(a, b), dot(a, b));
+        const double excess = std::abs(zeta) - zeta_max;
+        if (excess <= 0.0)
+          continue;
+        const double moment = (zeta > 0.0 ? 1.0 : -1.0) * stiffness * excess;
+        const Vec2 ga = (1.0 / norm_square(a)) * perp(a);
+        const Vec2 gb = (1.0 / norm_square(b)) * perp(b);
+        c.f[k - 1] -= moment * ga;
+        c.f[k] += moment * (ga + gb);
+        c.f[k + 1] -= moment * gb;
+        e.contact += 0.5 * stiffness * excess * excess;
+      }
+  }
+
   void DampingTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
     const double cm = gamma * c.node_mass;

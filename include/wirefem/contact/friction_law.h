@@ -1,14 +1,19 @@
 // Regularised Coulomb friction with static and dynamic coefficients and a
 // threshold velocity, for one contact in the plane (the tangent is 1D).
 //
-// While a contact sticks, static friction is carried by a tangential spring
-// k_t whose elongation u is the tangential displacement since the contact
-// stuck; the force is -k_t u as long as |k_t u| <= mu_st F_N. Beyond that the
-// contact slides with the dynamic force -mu_d F_N sign(v_t) against the
-// relative tangential velocity v_t, and it sticks again once |v_t| < v_th.
+// Friction is carried by a tangential spring k_t whose elongation u grows
+// with the relative tangential displacement of the contact points. The spring
+// force -k_t u is capped: at mu_st F_N while the contact sticks; once that is
+// exceeded the contact slides and the cap drops to mu_d F_N; it sticks again
+// (cap mu_st F_N) once the relative tangential speed falls below v_th. When
+// the cap is hit, the spring is shortened to the cap (the slip); the work the
+// friction force took from the wire and the spring did not store is dissipated. Capping the spring rather than applying
+// -mu_d F_N sign(v_t) keeps sliding free of chatter in an explicit scheme.
 // Sign convention: v_t is the velocity of side A relative to side B along the
 // contact tangent t; the returned force acts on A along t (B gets minus it).
 #pragma once
+
+#include <cmath>
 
 namespace wirefem::contact
 {
@@ -31,6 +36,7 @@ namespace wirefem::contact
   {
     double force = 0.0; ///< tangential force on side A along t
     FrictionHistory history;
+    double dissipated = 0.0; ///< work taken from the wire minus the change of spring energy
   };
 
   /// One explicit update over a time step dt.
@@ -41,23 +47,25 @@ namespace wirefem::contact
                                         const FrictionHistory &old)
   {
     FrictionResult r;
-    if (old.sliding && (v_t >= c.threshold_velocity || -v_t >= c.threshold_velocity))
-      {
-        r.force = (v_t > 0.0 ? -1.0 : 1.0) * c.mu_dynamic * normal_force;
-        r.history.sliding = true;
-        r.history.elongation = -r.force / c.tangential_stiffness;
-        return r;
-      }
+    const bool keeps_sliding = old.sliding && (v_t >= c.threshold_velocity || -v_t >= c.threshold_velocity);
+    const double limit = (keeps_sliding ? c.mu_dynamic : c.mu_static) * normal_force;
+    const double trial = old.elongation + v_t * dt;
+    r.force = -c.tangential_stiffness * trial;
+    r.history.elongation = trial;
     r.history.sliding = false;
-    r.history.elongation = old.elongation + v_t * dt;
-    r.force = -c.tangential_stiffness * r.history.elongation;
-    const double limit = c.mu_static * normal_force;
     if (r.force > limit || -r.force > limit)
       {
         r.force = (r.force > 0.0 ? 1.0 : -1.0) * c.mu_dynamic * normal_force;
-        r.history.sliding = true;
         r.history.elongation = -r.force / c.tangential_stiffness;
+        r.history.sliding = true;
       }
+    // Energy: the previous force -k_t u_old acted over the relative
+    // displacement v_t dt that brought the contact here, taking k_t u_old v_t dt
+    // from the wire; what the spring did not store is dissipated. Summed over
+    // a contact's life this is exactly the work friction took from the wire.
+    const double k = c.tangential_stiffness;
+    r.dissipated = k * old.elongation * v_t * dt -
+                   0.5 * k * (r.history.elongation * r.history.elongation - old.elongation * old.elongation);
     return r;
   }
 } // namespace wirefem::contact

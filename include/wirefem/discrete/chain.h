@@ -48,7 +48,7 @@ namespace wirefem::discrete
     double friction_stored = 0.0;   ///< energy in sticking springs 1/2 k_t u^2
     double damping_work = 0.0;      ///< dissipated by viscous damping this step
     double plastic_work = 0.0;      ///< plastic work this step
-    double friction_work = 0.0;     ///< work absorbed by friction forces this step
+    double friction_work = 0.0;     ///< work dissipated by slip this step
     double max_penetration = 0.0;   ///< largest overlap (d)
     int n_self_contacts = 0;
     int n_wall_contacts = 0;

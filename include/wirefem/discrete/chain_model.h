@@ -27,7 +27,7 @@ namespace wirefem::discrete
     double contact = 0.0;         ///< penalty energy of the normal contact springs
     double kinetic = 0.0;         ///< free nodes
     double plastic = 0.0;         ///< plastic work
-    double friction = 0.0;        ///< dissipated by friction (absorbed minus stored in sticking springs)
+    double friction = 0.0;        ///< dissipated by slip of the friction springs
     double friction_stored = 0.0; ///< in sticking springs now
     double damping = 0.0;
     double injection_work = 0.0;  ///< work of the channels plus kinetic energy of entering wire

@@ -50,6 +50,25 @@ namespace wirefem::discrete
     std::vector<material::PlasticState> trial_state; // from the last add_forces
   };
 
+  /// The excluded volume of the wire at the scale of one node: a wire of
+  /// diameter d cannot bend to a radius below d/2, i.e. |zeta| <= zeta_max =
+  /// 2 lambda_0/d (capped at 2 pi/3, where the next-nearest nodes would touch).
+  /// Beyond it a penalty moment k (|zeta| - zeta_max) acts, with k = k_n
+  /// lambda_0^3 / 4 from the contact penalty (force k_n lambda_0 overlap at an
+  /// arm of lambda_0). Part of the self-contact effect: segments closer along
+  /// the wire than the exclusion length are otherwise free to cross.
+  class CurvatureLimitTerm : public Term
+  {
+  public:
+    CurvatureLimitTerm(double zeta_max, double stiffness) : zeta_max(zeta_max), stiffness(stiffness) {}
+    const char *name() const override { return "curvature limit"; }
+    void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+
+  private:
+    double zeta_max;
+    double stiffness;
+  };
+
   /// Viscous force -gamma m v on every free node.
   class DampingTerm : public Term
   {
@@ -71,8 +90,11 @@ namespace wirefem::discrete
     contact::FrictionCoefficients coefficients;
   };
 
-  /// Wire-wall contact: the node's surface stays inside the circle of radius
-  /// r; nodes in a channel mouth (|y| < d/2, |x| > r - d) are exempt.
+  /// Wire-wall contact: the node's surface stays off the wall, the circle of
+  /// radius r with an opening of width d at each channel. A node whose polar
+  /// angle lies within an opening meets the opening's nearest corner (the
+  /// wall's end at y = +-d/2), so the distance to the wall, and the force, is
+  /// continuous as a node moves across the mouth.
   class WallContactTerm : public Term
   {
   public:
@@ -89,8 +111,8 @@ namespace wirefem::discrete
 
   /// Wire-wire contact between segments closer than d, with candidates from
   /// the broad phase. A pair whose closest point is the far end of one of its
-  /// segments is left to the neighbouring segment, so no contact is counted
-  /// twice at a node.
+  /// segments is left to the neighbouring segment (when that pair is outside
+  /// the exclusion window), so no contact is counted twice at a node.
   class SelfContactTerm : public Term
   {
   public:
@@ -115,9 +137,17 @@ namespace wirefem::discrete
       return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
              static_cast<std::uint32_t>(j);
     }
+    /// A pair's friction history; `taken` marks that a current pair has
+    /// inherited it this step, so it is handed on at most once.
+    struct StoredHistory
+    {
+      contact::FrictionHistory history;
+      bool taken = false;
+    };
     ContactLaw law;
+    int exclusion;
     contact::BroadPhase broad;
     std::vector<ActivePair> active;
-    std::unordered_map<std::uint64_t, contact::FrictionHistory> history, trial_history;
+    std::unordered_map<std::uint64_t, StoredHistory> history, trial_history;
   };
 } // namespace wirefem::discrete

@@ -51,7 +51,7 @@ namespace wirefem::scene
     double wall_static_coefficient = 0.0;  ///< mu_st at the wall
     double wall_dynamic_coefficient = 0.0; ///< mu_d at the wall
     double threshold_velocity = 0.01;      ///< v_th (d / time): below it, static again
-    double tangential_stiffness_ratio = 0.5; ///< k_t / k_n of the sticking spring
+    double tangential_stiffness_ratio = 0.2; ///< k_t / k_n of the sticking spring
   };
 
   struct ContactParameters
