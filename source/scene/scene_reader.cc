@@ -180,8 +180,9 @@ namespace wirefem::scene
                 "Time over which the injection speed rises smoothly (1 - cos) from 0 to Speed: a sudden "
                 "start would send a compression wave of force sqrt(EA rho A) * Speed into the wire.");
       d.declare("Injection/Seed", "1", Patterns::Integer(0), "Seed of the symmetry-breaking perturbation.");
-      d.declare("Injection/Perturbation", "0.1", any_double,
-                "Amplitude (d) of the random transverse perturbation of the initial straight wire.");
+      d.declare("Injection/Perturbation", "0.5", any_double,
+                "Amplitude (d) of the initial transverse perturbation: the clamped first buckling mode, "
+                "up or down by the seed, plus random higher modes at a tenth of it.");
       d.declare("Injection/Maximum packing density", "0.6", any_double,
                 "Stop at this phi = d L/(pi r^2) even if not jammed. Must exceed the initial 2d/(pi r).");
       d.declare("Injection/Jamming force", "50", any_double,

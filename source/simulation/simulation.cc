@@ -205,7 +205,7 @@ namespace wirefem::simulation
     j["wall_time_s"] = result.wall_time_s;
     j["active_effects"] = model.active_effects();
     j["max_penetration"] = result.max_penetration;
-    j["energy"] = {{"injection_work", e.injection_work}, {"stretching", e.stretching}, {"bending", e.bending},
+    j["energy"] = {{"initial", e.initial}, {"injection_work", e.injection_work}, {"stretching", e.stretching}, {"bending", e.bending},
                    {"contact", e.contact}, {"kinetic", e.kinetic}, {"friction_stored", e.friction_stored},
                    {"plastic_dissipation", e.plastic}, {"friction_dissipation", e.friction},
                    {"damping_dissipation", e.damping}, {"balance_error", e.balance_error()}};

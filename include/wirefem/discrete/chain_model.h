@@ -31,13 +31,15 @@ namespace wirefem::discrete
     double friction_stored = 0.0; ///< in sticking springs now
     double damping = 0.0;
     double injection_work = 0.0;  ///< work of the channels plus kinetic energy of entering wire
+    double initial = 0.0;         ///< stored in the perturbed initial wire at t = 0
 
     double stored() const { return stretching + bending + contact + friction_stored + kinetic; }
     double dissipated() const { return plastic + friction + damping; }
-    /// (work in - stored - dissipated) / work in.
+    /// (energy in - stored - dissipated) / energy in, energy in = initial + injection work.
     double balance_error() const
     {
-      return injection_work > 0.0 ? (injection_work - stored() - dissipated()) / injection_work : 0.0;
+      const double in = initial + injection_work;
+      return in > 0.0 ? (in - stored() - dissipated()) / in : 0.0;
     }
   };
 

@@ -69,7 +69,7 @@ namespace wirefem::scene
     double speed = 1.0;            ///< injection speed of each channel (d / time)
     double ramp_time = 10.0;       ///< time over which the speed rises smoothly from 0
     unsigned int seed = 1;         ///< seed of the symmetry-breaking perturbation
-    double perturbation = 0.1;     ///< amplitude of the initial transverse perturbation (d)
+    double perturbation = 0.5;     ///< amplitude of the initial transverse perturbation (d)
     double maximum_packing_density = 0.6; ///< stop at this phi even if not jammed
     double jamming_force = 50.0;   ///< jammed when the mean inlet force exceeds this (force)
     double jamming_window = 1.0;   ///< injected length over which the force is averaged (d)

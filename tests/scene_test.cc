@@ -1,0 +1,104 @@
+// Scene reading: defaults, overrides, and one-line errors naming file, key and reason.
+#include <wirefem/scene/scene_reader.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace
+{
+  using wirefem::scene::InputError;
+  using wirefem::scene::read_scene;
+
+  std::string error_of(const std::string &file, const std::vector<std::string> &overrides)
+  {
+    try
+      {
+        read_scene(file, overrides);
+      }
+    catch (const InputError &e)
+      {
+        return e.what();
+      }
+    return "";
+  }
+
+  std::string write_prm(const std::string &name, const std::string &text)
+  {
+    const auto path = std::filesystem::temp_directory_path() / name;
+    std::ofstream(path) << text;
+    return path.string();
+  }
+
+  TEST(Scene, ReadsFileAndAppliesOverridesInOrder)
+  {
+    const auto f = write_prm("wirefem_scene_ok.prm", "subsection Cavity\n  set Radius = 12 # comment\nend\n"
+                                                     "subsection Contact\n subsection Friction\n"
+                                                     "  set Static coefficient = 0.3\n end\nend\n");
+    const auto s = read_scene(f, {"contact/friction/static coefficient = 0.4", "Injection/Seed=7"});
+    EXPECT_DOUBLE_EQ(s.cavity.radius, 12.0);
+    EXPECT_DOUBLE_EQ(s.contact.friction.static_coefficient, 0.4);
+    EXPECT_DOUBLE_EQ(s.contact.friction.dynamic_coefficient, 0.8 * 0.4);
+    EXPECT_DOUBLE_EQ(s.contact.friction.wall_static_coefficient, 0.4);
+    EXPECT_EQ(s.injection.seed, 7u);
+    EXPECT_EQ(s.name, "wirefem_scene_ok");
+    EXPECT_EQ(s.output.directory, "output/wirefem_scene_ok");
+  }
+
+  TEST(Scene, BadInputNamesFileKeyAndReason)
+  {
+    const auto f = write_prm("wirefem_scene_bad.prm", "set Model = discrete\n");
+    struct Case
+    {
+      std::vector<std::string> overrides;
+      std::string key, reason;
+    };
+    for (const auto &c : std::vector<Case>{
+           {{"Cavity/Radius=-3"}, "Cavity/Radius", "larger than 1"},
+           {{"Cavity/Radius=twelve"}, "Cavity/Radius", "'twelve' is not a valid value"},
+           {{"Cavity/No such key=1"}, "Cavity/No such key", "no such key"},
+           {{"Contact/Friction/Static coefficient=0.2", "Contact/Friction/Dynamic coefficient=0.3"},
+            "Contact/Friction/Dynamic coefficient", "exceeds the static coefficient"},
+           {{"Injection/Maximum packing density=0.01"}, "Injection/Maximum packing density",
+            "must exceed the initial packing density"},
+           {{"Wire/Plasticity/Hardening slope=1.5"}, "Wire/Plasticity/Hardening slope", "[0, 1]"},
+           {{"Discrete/Segment length=0.3"}, "Discrete/Segment length", "whole number"},
+           {{"Cavity/Radius"}, "Cavity/Radius", "expected"},
+         })
+      {
+        const auto msg = error_of(f, c.overrides);
+        EXPECT_NE(msg.find(f), std::string::npos) << msg;
+        EXPECT_NE(msg.find(c.key), std::string::npos) << msg;
+        EXPECT_NE(msg.find(c.reason), std::string::npos) << msg;
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+      }
+  }
+
+  TEST(Scene, FileErrorsCarryTheLineNumber)
+  {
+    const auto f = write_prm("wirefem_scene_line.prm", "subsection Cavity\n  set Radius = 10\n  set Radus = 3\nend\n");
+    const auto msg = error_of(f, {});
+    EXPECT_NE(msg.find(f + ":3"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("Cavity/Radus"), std::string::npos) << msg;
+    const auto g = write_prm("wirefem_scene_open.prm", "subsection Cavity\n  set Radius = 10\n");
+    EXPECT_NE(error_of(g, {}).find("not closed"), std::string::npos);
+  }
+
+  TEST(Scene, MissingFileIsAnError)
+  {
+    const auto msg = error_of("/nonexistent/absent.prm", {});
+    EXPECT_NE(msg.find("absent.prm"), std::string::npos) << msg;
+  }
+
+  TEST(Scene, PrintParametersListsEveryContractKey)
+  {
+    std::ostringstream out;
+    wirefem::scene::print_parameters(out);
+    for (const auto key : {"Model", "Radius", "Axial stiffness", "Bending stiffness", "Mass per length",
+                           "Yield curvature", "Hardening slope", "Static coefficient", "Dynamic coefficient",
+                           "Speed", "Seed", "Maximum packing density", "Directory"})
+      EXPECT_NE(out.str().find(std::string("set ") + key), std::string::npos) << key;
+  }
+} // namespace
