@@ -1,0 +1,47 @@
+# Scene-level runs of the wirefem executable: the output contract, the
+# bad-input contract, and the hard cases of the discrete model (short, f = 10).
+set(WIREFEM_EXE $<TARGET_FILE:wirefem>)
+set(SCENE_OUT ${CMAKE_BINARY_DIR}/test-output)
+
+add_test(NAME scene.quick_runs
+         COMMAND ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm
+                 --set Output/Directory=${SCENE_OUT}/quick --set Output/Progress=off)
+set_tests_properties(scene.quick_runs PROPERTIES LABELS regression)
+
+# The contract checker ships beside the repository (shared/tools) where it exists.
+set(CHECK_CONTRACT ${CMAKE_SOURCE_DIR}/../shared/tools/check-contract)
+if(EXISTS ${CHECK_CONTRACT})
+  add_test(NAME scene.output_contract
+           COMMAND python3 ${CHECK_CONTRACT} ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm
+           WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+  set_tests_properties(scene.output_contract PROPERTIES LABELS regression)
+endif()
+
+# Bad input: exit status 2, a message naming the key, no output directory.
+foreach(case "radius;Cavity/Radius=-3" "dynamic;Contact/Friction/Dynamic coefficient=9"
+        "density;Injection/Maximum packing density=0.001")
+  list(GET case 0 name)
+  list(GET case 1 setting)
+  add_test(NAME scene.bad_input_${name}
+           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
+                   -DSETTING=${setting} -DOUT=${SCENE_OUT}/bad_${name}
+                   -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_bad_input.cmake)
+  set_tests_properties(scene.bad_input_${name} PROPERTIES LABELS regression)
+endforeach()
+
+# Hard cases: each runs to its end (jamming or the maximum density) without a
+# numerical stop. summary.json must say failed = false (checked by the script).
+foreach(case "mu5;Contact/Friction/Static coefficient=5"
+        "kappa0;Wire/Plasticity/Yield curvature=0"
+        "s0;Wire/Plasticity/Hardening slope=0"
+        "s1;Wire/Plasticity/Hardening slope=1"
+        "kn10;Contact/Normal stiffness=20000"
+        "speed10;Injection/Speed=10")
+  list(GET case 0 name)
+  list(GET case 1 setting)
+  add_test(NAME scene.hard_case_${name}
+           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
+                   -DSETTING=${setting} -DOUT=${SCENE_OUT}/hard_${name}
+                   -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+  set_tests_properties(scene.hard_case_${name} PROPERTIES LABELS "regression;stress")
+endforeach()

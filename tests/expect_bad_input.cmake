@@ -1,0 +1,15 @@
+# Runs EXE PRM --set SETTING and expects exit 2, the key in the message, no OUT.
+file(REMOVE_RECURSE ${OUT})
+string(REGEX REPLACE "=.*" "" key "${SETTING}")
+execute_process(COMMAND ${EXE} ${PRM} --set ${SETTING} --set Output/Directory=${OUT}
+                RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_VARIABLE out)
+if(NOT rc EQUAL 2)
+  message(FATAL_ERROR "exit ${rc}, expected 2: ${err}")
+endif()
+string(FIND "${err}" "${key}" pos)
+if(pos EQUAL -1)
+  message(FATAL_ERROR "message does not name ${key}: ${err}")
+endif()
+if(EXISTS ${OUT})
+  message(FATAL_ERROR "bad input created ${OUT}")
+endif()

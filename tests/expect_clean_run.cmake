@@ -1,0 +1,12 @@
+# Runs EXE PRM --set SETTING and expects exit 0 and summary.json "failed": false.
+execute_process(COMMAND ${EXE} ${PRM} --set ${SETTING} --set Output/Directory=${OUT} --set Output/Progress=off
+                RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_VARIABLE out)
+message("${out}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "exit ${rc}: ${err}")
+endif()
+file(READ ${OUT}/summary.json summary)
+string(JSON failed GET "${summary}" failed)
+if(failed)
+  message(FATAL_ERROR "run stopped by a numerical limit: ${summary}")
+endif()
