@@ -15,7 +15,9 @@ int main(int argc, char **argv)
   std::vector<std::string> overrides;
   bool print = false;
   app.add_option("scene", prm_file, "Scene file (.prm, deal.II ParameterHandler format)");
-  app.add_option("--set", overrides, "Override a key: \"Section/Key=value\" (repeatable)")->allow_extra_args(false)->take_all();
+  app.add_option("--set", overrides, "Override a key: \"Section/Key=value\" (repeatable)")
+      ->allow_extra_args(false)
+      ->take_all();
   app.add_flag("--print-parameters", print, "Print every key with its default and documentation");
   try
     {

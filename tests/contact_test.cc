@@ -19,22 +19,17 @@ namespace
   using wirefem::geometry::Vec2;
 
   constexpr double tol = 1e-12;
-  const double two_pi  = 2.0 * std::acos(-1.0);
+  const double two_pi = 2.0 * std::acos(-1.0);
 
-  void
-  expect_vec_near(const Vec2 &a, const Vec2 &b, const double eps = tol)
+  void expect_vec_near(const Vec2 &a, const Vec2 &b, const double eps = tol)
   {
     EXPECT_NEAR(a.x, b.x, eps);
     EXPECT_NEAR(a.y, b.y, eps);
   }
 
   // Closest points must be consistent with their parameters and lie in range.
-  void
-  expect_consistent(const ClosestPoints &c,
-                    const Vec2 &a0,
-                    const Vec2 &a1,
-                    const Vec2 &b0,
-                    const Vec2 &b1)
+  void expect_consistent(const ClosestPoints &c, const Vec2 &a0, const Vec2 &a1, const Vec2 &b0,
+                         const Vec2 &b1)
   {
     EXPECT_GE(c.s, 0.0);
     EXPECT_LE(c.s, 1.0);
@@ -199,12 +194,11 @@ namespace
         const Vec2 a0{u(rng), u(rng)}, a1{u(rng), u(rng)};
         const Vec2 b0{u(rng), u(rng)}, b1{u(rng), u(rng)};
         const double dist = closest_points(a0, a1, b0, b1).distance;
-        double sampled    = std::numeric_limits<double>::max();
+        double sampled = std::numeric_limits<double>::max();
         for (int i = 0; i <= 100; ++i)
           for (int j = 0; j <= 100; ++j)
-            sampled = std::min(sampled,
-                               wirefem::geometry::norm((a0 + (i / 100.0) * (a1 - a0)) -
-                                                       (b0 + (j / 100.0) * (b1 - b0))));
+            sampled = std::min(sampled, wirefem::geometry::norm((a0 + (i / 100.0) * (a1 - a0)) -
+                                                                (b0 + (j / 100.0) * (b1 - b0))));
         EXPECT_LE(dist, sampled + tol);
         EXPECT_GE(dist, sampled - 0.05);
       }
@@ -223,43 +217,33 @@ namespace
         for (double &c : v)
           c = u(rng);
         auto dist = [](const std::array<double, 8> &w) {
-          return closest_points({w[0], w[1]}, {w[2], w[3]}, {w[4], w[5]}, {w[6], w[7]})
-            .distance;
+          return closest_points({w[0], w[1]}, {w[2], w[3]}, {w[4], w[5]}, {w[6], w[7]}).distance;
         };
-        const auto c =
-          closest_points({v[0], v[1]}, {v[2], v[3]}, {v[4], v[5]}, {v[6], v[7]});
+        const auto c = closest_points({v[0], v[1]}, {v[2], v[3]}, {v[4], v[5]}, {v[6], v[7]});
         if (c.distance < 0.1)
           continue; // crossing or nearly so: not differentiable
         ++checked;
 
         const Vec2 n = (1.0 / c.distance) * (c.p - c.q);
-        const std::array<double, 8> grad{{n.x * (1 - c.s),
-                                         n.y * (1 - c.s),
-                                         n.x * c.s,
-                                         n.y * c.s,
-                                         -n.x * (1 - c.t),
-                                         -n.y * (1 - c.t),
-                                         -n.x * c.t,
-                                         -n.y * c.t}};
+        const std::array<double, 8> grad{{n.x * (1 - c.s), n.y * (1 - c.s), n.x * c.s, n.y * c.s,
+                                          -n.x * (1 - c.t), -n.y * (1 - c.t), -n.x * c.t, -n.y * c.t}};
         const double h = 1e-6;
         for (int k = 0; k < 8; ++k)
           {
-            auto plus  = v;
+            auto plus = v;
             auto minus = v;
             plus[k] += h;
             minus[k] -= h;
             const double fd = (dist(plus) - dist(minus)) / (2 * h);
             EXPECT_NEAR(fd, grad[k], 1e-6 * std::max(1.0, std::abs(grad[k])))
-              << "configuration " << checked << ", coordinate " << k;
+                << "configuration " << checked << ", coordinate " << k;
           }
       }
   }
 
-
   // A random walk with unit steps kept inside a square box of side `box`;
   // nodes outside [first, first + n) are NaN so any access to them shows.
-  std::vector<Vec2>
-  random_wire(const unsigned int seed, const int first, const int n, const double box)
+  std::vector<Vec2> random_wire(const unsigned int seed, const int first, const int n, const double box)
   {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> angle(0.0, two_pi);
@@ -270,7 +254,7 @@ namespace
       for (;;)
         {
           const double a = angle(rng);
-          const Vec2 y   = x[k - 1] + Vec2{std::cos(a), std::sin(a)};
+          const Vec2 y = x[k - 1] + Vec2{std::cos(a), std::sin(a)};
           if (y.x >= 0 && y.x <= box && y.y >= 0 && y.y <= box)
             {
               x[k] = y;
@@ -280,8 +264,7 @@ namespace
     return x;
   }
 
-  bool
-  is_sorted_unique(const std::vector<SegmentPair> &p)
+  bool is_sorted_unique(const std::vector<SegmentPair> &p)
   {
     for (std::size_t k = 1; k < p.size(); ++k)
       if (!(p[k - 1] < p[k]))
@@ -297,26 +280,21 @@ namespace
     int exclusion;
   };
 
-  const std::vector<WireCase> wire_cases = {{1, 0, 200, 1},
-                                            {2, 7, 500, 2},
-                                            {3, 0, 1000, 3},
-                                            {4, 50, 2000, 1},
-                                            {5, 13, 1500, 5},
-                                            {6, 1, 300, 10}};
+  const std::vector<WireCase> wire_cases = {{1, 0, 200, 1},   {2, 7, 500, 2},   {3, 0, 1000, 3},
+                                            {4, 50, 2000, 1}, {5, 13, 1500, 5}, {6, 1, 300, 10}};
 
   TEST(BroadPhase, MatchesBruteForceAfterRebuild)
   {
     const double diameter = 1.0, skin = 0.4;
-    std::size_t total     = 0;
+    std::size_t total = 0;
     for (const auto &w : wire_cases)
       {
         const double box = std::sqrt(static_cast<double>(w.n)) * 0.8;
-        const auto x     = random_wire(w.seed, w.first, w.n, box);
+        const auto x = random_wire(w.seed, w.first, w.n, box);
         BroadPhase bp(diameter, skin, w.exclusion);
         EXPECT_TRUE(bp.update(x, w.first, w.first + w.n));
         EXPECT_EQ(bp.n_rebuilds(), 1u);
-        const auto ref =
-          BroadPhase::brute_force(x, w.first, w.first + w.n, diameter + skin, w.exclusion);
+        const auto ref = BroadPhase::brute_force(x, w.first, w.first + w.n, diameter + skin, w.exclusion);
         EXPECT_FALSE(ref.empty());
         EXPECT_TRUE(is_sorted_unique(bp.candidates()));
         EXPECT_EQ(bp.candidates(), ref) << "seed " << w.seed;
@@ -336,9 +314,9 @@ namespace
     const double diameter = 1.0, skin = 0.4;
     for (const auto &w : wire_cases)
       {
-        const double box  = std::sqrt(static_cast<double>(w.n)) * 0.8;
-        const int last    = w.first + w.n;
-        const auto x0     = random_wire(w.seed, w.first, w.n, box);
+        const double box = std::sqrt(static_cast<double>(w.n)) * 0.8;
+        const int last = w.first + w.n;
+        const auto x0 = random_wire(w.seed, w.first, w.n, box);
         BroadPhase bp(diameter, skin, w.exclusion);
         ASSERT_TRUE(bp.update(x0, w.first, last));
 
@@ -354,13 +332,10 @@ namespace
                 x[k] += length(rng) * Vec2{std::cos(a), std::sin(a)};
               }
             EXPECT_FALSE(bp.update(x, w.first, last));
-            const auto touching =
-              BroadPhase::brute_force(x, w.first, last, diameter, w.exclusion);
-            EXPECT_TRUE(std::includes(bp.candidates().begin(),
-                                      bp.candidates().end(),
-                                      touching.begin(),
+            const auto touching = BroadPhase::brute_force(x, w.first, last, diameter, w.exclusion);
+            EXPECT_TRUE(std::includes(bp.candidates().begin(), bp.candidates().end(), touching.begin(),
                                       touching.end()))
-              << "seed " << w.seed << ", step " << step;
+                << "seed " << w.seed << ", step " << step;
           }
         EXPECT_EQ(bp.n_rebuilds(), 1u);
 
@@ -369,15 +344,14 @@ namespace
         x[w.first + w.n / 2] += Vec2{0.51 * skin, 0.0};
         EXPECT_TRUE(bp.update(x, w.first, last));
         EXPECT_EQ(bp.n_rebuilds(), 2u);
-        EXPECT_EQ(bp.candidates(),
-                  BroadPhase::brute_force(x, w.first, last, diameter + skin, w.exclusion));
+        EXPECT_EQ(bp.candidates(), BroadPhase::brute_force(x, w.first, last, diameter + skin, w.exclusion));
       }
   }
 
   TEST(BroadPhase, RebuildTriggers)
   {
     const int first = 3, n = 400;
-    const auto x    = random_wire(9, first, n, 16.0);
+    const auto x = random_wire(9, first, n, 16.0);
     BroadPhase bp(1.0, 0.3, 2);
     EXPECT_TRUE(bp.update(x, first, first + n));
     EXPECT_FALSE(bp.update(x, first, first + n));
@@ -388,8 +362,7 @@ namespace
 
     // Active range changes at either end.
     EXPECT_TRUE(bp.update(x, first + 1, first + n));
-    EXPECT_EQ(bp.candidates(),
-              BroadPhase::brute_force(x, first + 1, first + n, 1.3, 2));
+    EXPECT_EQ(bp.candidates(), BroadPhase::brute_force(x, first + 1, first + n, 1.3, 2));
     EXPECT_TRUE(bp.update(x, first + 1, first + n - 1));
     EXPECT_FALSE(bp.update(x, first + 1, first + n - 1));
     EXPECT_EQ(bp.n_rebuilds(), 4u);

@@ -82,8 +82,8 @@ namespace
     // Within the elastic range of a plastic state the moment is the gradient
     // of 1/2 k2 (zeta - zeta_p)^2: evaluate on a chain whose angles stay
     // inside the (large) yield range.
-    discrete::BendingTerm term(material::MomentCurvatureLaw(60.0, 1.5, 0.05, scene::Hardening::kinematic), 0.0,
-                               20);
+    discrete::BendingTerm term(material::MomentCurvatureLaw(60.0, 1.5, 0.05, scene::Hardening::kinematic),
+                               0.0, 20);
     expect_forces_match_energy(term, wiggly_chain(12, 0.3, 3), 1e-6);
   }
 
@@ -224,8 +224,9 @@ namespace
   TEST(ChainModel, NeutralFrictionAndPlasticityChangeNothing)
   {
     const auto off = small_scene({"Contact/Friction/Static coefficient=0", "Wire/Plasticity/Enabled=false"});
-    const auto neutral = small_scene({"Contact/Friction/Static coefficient=0", "Wire/Plasticity/Enabled=true",
-                                      "Wire/Plasticity/Yield curvature=4", "Debug/Keep neutral effects=true"});
+    const auto neutral =
+        small_scene({"Contact/Friction/Static coefficient=0", "Wire/Plasticity/Enabled=true",
+                     "Wire/Plasticity/Yield curvature=4", "Debug/Keep neutral effects=true"});
     discrete::ChainModel a(off), b(neutral);
     ASSERT_EQ(std::count(b.active_effects().begin(), b.active_effects().end(), "friction"), 1);
     ASSERT_EQ(std::count(b.active_effects().begin(), b.active_effects().end(), "plasticity"), 1);

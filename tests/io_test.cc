@@ -54,8 +54,7 @@ namespace
           {
             const Vec2 a = wire.points[i] - wire.points[i - 1];
             const Vec2 b = wire.points[i + 1] - wire.points[i];
-            const double turn =
-              std::atan2(wirefem::geometry::cross(a, b), wirefem::geometry::dot(a, b));
+            const double turn = std::atan2(wirefem::geometry::cross(a, b), wirefem::geometry::dot(a, b));
             kappa = 2.0 * turn / (wirefem::geometry::norm(a) + wirefem::geometry::norm(b));
           }
         wire.curvature.push_back(kappa);
@@ -182,16 +181,13 @@ namespace
   {
     const WireState wire = spiral_wire();
     const fs::path missing = dir / "no" / "such" / "dir";
-    EXPECT_THROW(wirefem::io::write_pictures(wire, (missing / "a.png").string(),
-                                             (dir / "a.svg").string()),
+    EXPECT_THROW(wirefem::io::write_pictures(wire, (missing / "a.png").string(), (dir / "a.svg").string()),
                  std::runtime_error);
-    EXPECT_THROW(wirefem::io::write_pictures(wire, (dir / "a.png").string(),
-                                             (missing / "a.svg").string()),
+    EXPECT_THROW(wirefem::io::write_pictures(wire, (dir / "a.png").string(), (missing / "a.svg").string()),
                  std::runtime_error);
     try
       {
-        wirefem::io::write_pictures(wire, (missing / "named.png").string(),
-                                    (dir / "a.svg").string());
+        wirefem::io::write_pictures(wire, (missing / "named.png").string(), (dir / "a.svg").string());
       }
     catch (const std::runtime_error &e)
       {
@@ -229,8 +225,7 @@ namespace
       }
     EXPECT_EQ(count, 56);
 
-    EXPECT_THROW(wirefem::io::write_vtu((dir / "missing" / "w.vtu").string(), wire),
-                 std::runtime_error);
+    EXPECT_THROW(wirefem::io::write_vtu((dir / "missing" / "w.vtu").string(), wire), std::runtime_error);
   }
 
   TEST_F(IoTest, PvdListsEntriesInOrderAndLeavesNoTemporary)

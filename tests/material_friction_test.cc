@@ -13,9 +13,9 @@ namespace
   using wirefem::material::PlasticState;
   using wirefem::scene::Hardening;
 
-  constexpr double c = 60.0;   // stiffness k2
-  constexpr double ey = 0.04;  // yield strain
-  constexpr double s = 0.08;   // hardening slope
+  constexpr double c = 60.0;  // stiffness k2
+  constexpr double ey = 0.04; // yield strain
+  constexpr double s = 0.08;  // hardening slope
 
   // Drives the law along a strain path in small increments; returns the
   // moments and accumulates the plastic work.

@@ -56,16 +56,18 @@ namespace
       std::string key, reason;
     };
     for (const auto &c : std::vector<Case>{
-           {{"Cavity/Radius=-3"}, "Cavity/Radius", "larger than 1"},
-           {{"Cavity/Radius=twelve"}, "Cavity/Radius", "'twelve' is not a valid value"},
-           {{"Cavity/No such key=1"}, "Cavity/No such key", "no such key"},
-           {{"Contact/Friction/Static coefficient=0.2", "Contact/Friction/Dynamic coefficient=0.3"},
-            "Contact/Friction/Dynamic coefficient", "exceeds the static coefficient"},
-           {{"Injection/Maximum packing density=0.01"}, "Injection/Maximum packing density",
-            "must exceed the initial packing density"},
-           {{"Wire/Plasticity/Hardening slope=1.5"}, "Wire/Plasticity/Hardening slope", "[0, 1]"},
-           {{"Discrete/Segment length=0.3"}, "Discrete/Segment length", "whole number"},
-           {{"Cavity/Radius"}, "Cavity/Radius", "expected"},
+             {{"Cavity/Radius=-3"}, "Cavity/Radius", "larger than 1"},
+             {{"Cavity/Radius=twelve"}, "Cavity/Radius", "'twelve' is not a valid value"},
+             {{"Cavity/No such key=1"}, "Cavity/No such key", "no such key"},
+             {{"Contact/Friction/Static coefficient=0.2", "Contact/Friction/Dynamic coefficient=0.3"},
+              "Contact/Friction/Dynamic coefficient",
+              "exceeds the static coefficient"},
+             {{"Injection/Maximum packing density=0.01"},
+              "Injection/Maximum packing density",
+              "must exceed the initial packing density"},
+             {{"Wire/Plasticity/Hardening slope=1.5"}, "Wire/Plasticity/Hardening slope", "[0, 1]"},
+             {{"Discrete/Segment length=0.3"}, "Discrete/Segment length", "whole number"},
+             {{"Cavity/Radius"}, "Cavity/Radius", "expected"},
          })
       {
         const auto msg = error_of(f, c.overrides);
@@ -78,7 +80,8 @@ namespace
 
   TEST(Scene, FileErrorsCarryTheLineNumber)
   {
-    const auto f = write_prm("wirefem_scene_line.prm", "subsection Cavity\n  set Radius = 10\n  set Radus = 3\nend\n");
+    const auto f =
+        write_prm("wirefem_scene_line.prm", "subsection Cavity\n  set Radius = 10\n  set Radus = 3\nend\n");
     const auto msg = error_of(f, {});
     EXPECT_NE(msg.find(f + ":3"), std::string::npos) << msg;
     EXPECT_NE(msg.find("Cavity/Radus"), std::string::npos) << msg;

@@ -96,8 +96,8 @@ namespace wirefem::analysis
     const int mid = n / 2;
     m.winding_left = winding(p, 0, mid);
     m.winding_right = winding(p, n - 1, mid);
-    const bool spiral = std::abs(m.winding_left) >= spiral_turns && std::abs(m.winding_right) >= spiral_turns &&
-                        m.winding_left * m.winding_right > 0.0;
+    const bool spiral = std::abs(m.winding_left) >= spiral_turns &&
+                        std::abs(m.winding_right) >= spiral_turns && m.winding_left * m.winding_right > 0.0;
     m.phase = spiral ? "spiral" : (m.curvature_ratio < 0.5 ? "classic" : "plastic");
     return m;
   }

@@ -16,16 +16,12 @@ namespace wirefem::contact
     // boxes, so no box is paired with itself and no pair is reported twice.
     using SegmentBox = CGAL::Box_intersection_d::Box_with_info_d<double, 2, int>;
 
-    inline bool
-    is_candidate(const std::vector<geometry::Vec2> &x,
-                 const int i,
-                 const int j,
-                 const double cutoff)
+    inline bool is_candidate(const std::vector<geometry::Vec2> &x, const int i, const int j,
+                             const double cutoff)
     {
       return closest_points(x[i], x[i + 1], x[j], x[j + 1]).distance < cutoff;
     }
   } // namespace
-
 
   BroadPhase::BroadPhase(const double diameter, const double skin, const int exclusion)
     : diameter(diameter)
@@ -37,11 +33,7 @@ namespace wirefem::contact
     assert(exclusion >= 1);
   }
 
-
-  bool
-  BroadPhase::update(const std::vector<geometry::Vec2> &x,
-                     const int first_node,
-                     const int last_node)
+  bool BroadPhase::update(const std::vector<geometry::Vec2> &x, const int first_node, const int last_node)
   {
     assert(0 <= first_node && first_node <= last_node);
     assert(static_cast<std::size_t>(last_node) <= x.size());
@@ -60,21 +52,17 @@ namespace wirefem::contact
     return needed;
   }
 
-
-  void
-  BroadPhase::rebuild(const std::vector<geometry::Vec2> &x,
-                      const int first_node,
-                      const int last_node)
+  void BroadPhase::rebuild(const std::vector<geometry::Vec2> &x, const int first_node, const int last_node)
   {
     const double cutoff = diameter + skin;
-    const double r      = 0.5 * cutoff;
+    const double r = 0.5 * cutoff;
 
     // Inactive entries are never read, so only the active range is copied.
     x_at_build.resize(x.size());
     std::copy(x.begin() + first_node, x.begin() + last_node, x_at_build.begin() + first_node);
     built_first = first_node;
-    built_last  = last_node;
-    valid       = true;
+    built_last = last_node;
+    valid = true;
     ++rebuilds;
     pairs.clear();
 
@@ -88,35 +76,27 @@ namespace wirefem::contact
       {
         const geometry::Vec2 &u = x[k];
         const geometry::Vec2 &v = x[k + 1];
-        boxes.emplace_back(CGAL::Bbox_2(std::min(u.x, v.x) - r,
-                                        std::min(u.y, v.y) - r,
-                                        std::max(u.x, v.x) + r,
-                                        std::max(u.y, v.y) + r),
+        boxes.emplace_back(CGAL::Bbox_2(std::min(u.x, v.x) - r, std::min(u.y, v.y) - r,
+                                        std::max(u.x, v.x) + r, std::max(u.y, v.y) + r),
                            k);
       }
 
     const int excl = exclusion;
-    CGAL::box_self_intersection_d(boxes.begin(),
-                                  boxes.end(),
-                                  [&](const SegmentBox &a, const SegmentBox &b) {
-                                    const int i = std::min(a.info(), b.info());
-                                    const int j = std::max(a.info(), b.info());
-                                    if (j - i > excl && is_candidate(x, i, j, cutoff))
-                                      pairs.push_back({i, j});
-                                  });
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const SegmentBox &a, const SegmentBox &b) {
+      const int i = std::min(a.info(), b.info());
+      const int j = std::max(a.info(), b.info());
+      if (j - i > excl && is_candidate(x, i, j, cutoff))
+        pairs.push_back({i, j});
+    });
 
     // The tree reports pairs in no useful order; users and tests rely on (i, j).
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   }
 
-
-  std::vector<SegmentPair>
-  BroadPhase::brute_force(const std::vector<geometry::Vec2> &x,
-                          const int first_node,
-                          const int last_node,
-                          const double cutoff,
-                          const int exclusion)
+  std::vector<SegmentPair> BroadPhase::brute_force(const std::vector<geometry::Vec2> &x, const int first_node,
+                                                   const int last_node, const double cutoff,
+                                                   const int exclusion)
   {
     assert(0 <= first_node && first_node <= last_node);
     assert(static_cast<std::size_t>(last_node) <= x.size());

@@ -11,8 +11,7 @@ namespace wirefem::contact
     /// Parameter in [0, 1] of the point of segment o + u d closest to p.
     /// Comparing before dividing means the quotient is only formed when
     /// 0 < num < len2, so a zero or tiny len2 never produces inf or NaN.
-    inline double
-    clamped_projection(const Vec2 &p, const Vec2 &o, const Vec2 &d, const double len2)
+    inline double clamped_projection(const Vec2 &p, const Vec2 &o, const Vec2 &d, const double len2)
     {
       const double num = geometry::dot(p - o, d);
       if (num <= 0.0)
@@ -22,16 +21,13 @@ namespace wirefem::contact
       return num / len2;
     }
 
-    inline bool
-    opposite_signs(const double a, const double b)
+    inline bool opposite_signs(const double a, const double b)
     {
       return (a > 0.0 && b < 0.0) || (a < 0.0 && b > 0.0);
     }
   } // namespace
 
-
-  ClosestPoints
-  closest_points(const Vec2 &a0, const Vec2 &a1, const Vec2 &b0, const Vec2 &b1)
+  ClosestPoints closest_points(const Vec2 &a0, const Vec2 &a1, const Vec2 &b0, const Vec2 &b1)
   {
     const Vec2 da = a1 - a0;
     const Vec2 db = b1 - b0;
@@ -50,10 +46,10 @@ namespace wirefem::contact
         const double o4 = geometry::cross(db, a1 - b0);
         if (opposite_signs(o3, o4))
           {
-            result.s        = o3 / (o3 - o4);
-            result.t        = o1 / (o1 - o2);
-            result.p        = a0 + result.s * da;
-            result.q        = b0 + result.t * db;
+            result.s = o3 / (o3 - o4);
+            result.t = o1 / (o1 - o2);
+            result.p = a0 + result.s * da;
+            result.q = b0 + result.t * db;
             result.distance = 0.0;
             return result;
           }
@@ -69,37 +65,37 @@ namespace wirefem::contact
     const double lb = geometry::norm_square(db);
 
     // a0 against segment b.
-    double t      = clamped_projection(a0, b0, db, lb);
-    double best   = geometry::norm_square(a0 - (b0 + t * db));
+    double t = clamped_projection(a0, b0, db, lb);
+    double best = geometry::norm_square(a0 - (b0 + t * db));
     double best_s = 0.0;
     double best_t = t;
 
     // a1 against segment b.
-    t                = clamped_projection(a1, b0, db, lb);
+    t = clamped_projection(a1, b0, db, lb);
     double candidate = geometry::norm_square(a1 - (b0 + t * db));
     if (candidate < best)
       {
-        best   = candidate;
+        best = candidate;
         best_s = 1.0;
         best_t = t;
       }
 
     // b0 against segment a.
-    double s  = clamped_projection(b0, a0, da, la);
+    double s = clamped_projection(b0, a0, da, la);
     candidate = geometry::norm_square((a0 + s * da) - b0);
     if (candidate < best)
       {
-        best   = candidate;
+        best = candidate;
         best_s = s;
         best_t = 0.0;
       }
 
     // b1 against segment a.
-    s         = clamped_projection(b1, a0, da, la);
+    s = clamped_projection(b1, a0, da, la);
     candidate = geometry::norm_square((a0 + s * da) - b1);
     if (candidate < best)
       {
-        best   = candidate;
+        best = candidate;
         best_s = s;
         best_t = 1.0;
       }

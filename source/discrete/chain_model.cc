@@ -31,7 +31,8 @@ namespace wirefem::discrete
     // cavity up to the maximum packing density, plus the channel nodes.
     const int n0 = static_cast<int>(std::lround(2.0 * radius / lambda0));
     const double max_length = scene.injection.maximum_packing_density * M_PI * radius * radius / diameter;
-    const int extra = static_cast<int>(std::ceil(std::max(0.0, max_length - 2.0 * radius) / (2.0 * lambda0))) + 8;
+    const int extra =
+        static_cast<int>(std::ceil(std::max(0.0, max_length - 2.0 * radius) / (2.0 * lambda0))) + 8;
     nodes = Chain(n0 + 1 + 2 * 2 + 2 * extra);
     nodes.lambda0 = lambda0;
     nodes.node_mass = mass;
@@ -59,8 +60,7 @@ namespace wirefem::discrete
       }
     if (scene.discrete.translational_damping > 0.0)
       terms.push_back(std::make_unique<DampingTerm>(scene.discrete.translational_damping));
-    if (scene.discrete.translational_damping > 0.0 ||
-        (bending && scene.discrete.rotational_damping > 0.0))
+    if (scene.discrete.translational_damping > 0.0 || (bending && scene.discrete.rotational_damping > 0.0))
       effects.push_back("damping");
 
     ContactLaw law;
@@ -203,8 +203,8 @@ namespace wirefem::discrete
     inlet_force[0] = -dot(c.f[c.first] + c.f[c.first + 1], al);
     inlet_force[1] = -dot(c.f[c.last - 1] + c.f[c.last - 2], ar);
     // Work of the channels over the step: force times the exact injected length.
-    ledger.injection_work +=
-      (inlet_force[0] + inlet_force[1]) * (channels.injected_per_channel(t + dt) - channels.injected_per_channel(t));
+    ledger.injection_work += (inlet_force[0] + inlet_force[1]) *
+                             (channels.injected_per_channel(t + dt) - channels.injected_per_channel(t));
 
     const double inv_m = 1.0 / c.node_mass;
     double kinetic = 0.0;

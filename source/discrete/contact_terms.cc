@@ -11,7 +11,8 @@ namespace wirefem::discrete
   WallContactTerm::WallContactTerm(const double radius, const ContactLaw &law)
     : radius(radius)
     , law(law)
-  {}
+  {
+  }
 
   void WallContactTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
@@ -42,7 +43,8 @@ namespace wirefem::discrete
               continue;
             n = (1.0 / dist) * p;
           }
-        const double fn = law.normal_stiffness * overlap;        c.f[k] -= fn * n;
+        const double fn = law.normal_stiffness * overlap;
+        c.f[k] -= fn * n;
         c.contact_force[k] += fn;
         e.contact += 0.5 * law.normal_stiffness * overlap * overlap;
         e.max_penetration = std::max(e.max_penetration, overlap);
@@ -53,11 +55,11 @@ namespace wirefem::discrete
             const double vt = dot(c.v[k], t);
             const auto it = history.find(k);
             const auto r = contact::friction_update(
-              law.coefficients, fn, vt, dt, it == history.end() ? contact::FrictionHistory{} : it->second);
+                law.coefficients, fn, vt, dt, it == history.end() ? contact::FrictionHistory{} : it->second);
             c.f[k] += r.force * t;
             e.friction_work += r.dissipated;
-            e.friction_stored += 0.5 * law.coefficients.tangential_stiffness *
-                                 r.history.elongation * r.history.elongation;
+            e.friction_stored +=
+                0.5 * law.coefficients.tangential_stiffness * r.history.elongation * r.history.elongation;
             trial_history[k] = r.history;
           }
       }
@@ -80,7 +82,8 @@ namespace wirefem::discrete
     : law(law)
     , exclusion(exclusion)
     , broad(law.diameter, skin, exclusion)
-  {}
+  {
+  }
 
   void SelfContactTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
@@ -97,8 +100,7 @@ namespace wirefem::discrete
         // A closest point at the far end of a segment is the near end of the
         // next one, which reports the same contact (or a closer one) - unless
         // that next pair lies inside the exclusion window.
-        if ((cp.s >= 1.0 && i < last_segment && j - (i + 1) > exclusion) ||
-            (cp.t >= 1.0 && j < last_segment))
+        if ((cp.s >= 1.0 && i < last_segment && j - (i + 1) > exclusion) || (cp.t >= 1.0 && j < last_segment))
           continue;
         const double overlap = law.diameter - cp.distance;
         e.max_penetration = std::max(e.max_penetration, overlap);
@@ -127,8 +129,8 @@ namespace wirefem::discrete
             const auto r = contact::friction_update(law.coefficients, fn, vt, dt, old);
             fa += r.force * t;
             e.friction_work += r.dissipated;
-            e.friction_stored += 0.5 * law.coefficients.tangential_stiffness *
-                                 r.history.elongation * r.history.elongation;
+            e.friction_stored +=
+                0.5 * law.coefficients.tangential_stiffness * r.history.elongation * r.history.elongation;
             trial_history[key(i, j)] = {r.history, false};
           }
         c.f[i] += (1.0 - cp.s) * fa;

@@ -20,8 +20,7 @@ namespace wirefem::discrete
       }
   }
 
-  BendingTerm::BendingTerm(const material::MomentCurvatureLaw &law,
-                           const double rotational_damping,
+  BendingTerm::BendingTerm(const material::MomentCurvatureLaw &law, const double rotational_damping,
                            const int capacity)
     : law(law)
     , damping(rotational_damping)
@@ -68,8 +67,7 @@ namespace wirefem::discrete
           }
         if (damping > 0.0)
           {
-            const double rate =
-              dot(g_prev, c.v[k - 1]) + dot(g_mid, c.v[k]) + dot(g_next, c.v[k + 1]);
+            const double rate = dot(g_prev, c.v[k - 1]) + dot(g_mid, c.v[k]) + dot(g_next, c.v[k + 1]);
             moment += damping * rate;
             e.damping_work += damping * rate * rate * dt;
           }

@@ -67,9 +67,7 @@ namespace wirefem::io
     /// (wrong size). Negative and non-finite values are treated as 0: neither
     /// a force magnitude nor an energy can be negative, and a NaN must not
     /// poison the maximum used for scaling.
-    double segment_value(const std::vector<double> &field,
-                         const std::size_t n_points,
-                         const std::size_t k)
+    double segment_value(const std::vector<double> &field, const std::size_t n_points, const std::size_t k)
     {
       if (field.size() != n_points)
         return 0.0;
@@ -150,16 +148,14 @@ namespace wirefem::io
       // hidden under the round caps of their lighter neighbours.
       std::vector<std::size_t> order(n_segments);
       std::iota(order.begin(), order.end(), std::size_t(0));
-      std::stable_sort(order.begin(), order.end(), [&](const std::size_t a, const std::size_t b) {
-        return energy[a] < energy[b];
-      });
+      std::stable_sort(order.begin(), order.end(),
+                       [&](const std::size_t a, const std::size_t b) { return energy[a] < energy[b]; });
 
       for (const std::size_t k : order)
         {
           const auto &a = wire.points[k];
           const auto &b = wire.points[k + 1];
-          if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(b.x) ||
-              !std::isfinite(b.y))
+          if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(b.x) || !std::isfinite(b.y))
             continue;
           Scene::Segment s;
           s.x0 = scene.px(a.x);
@@ -193,8 +189,7 @@ namespace wirefem::io
           const double y_top = scene.py(0.5 * d);
           const double y_bottom = scene.py(-0.5 * d);
           cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
-          cairo_rectangle(cr, std::min(x_in, x_out), y_top, std::abs(x_out - x_in),
-                          y_bottom - y_top);
+          cairo_rectangle(cr, std::min(x_in, x_out), y_top, std::abs(x_out - x_in), y_bottom - y_top);
           cairo_fill(cr);
           cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
           cairo_set_line_width(cr, thin_px);
@@ -238,8 +233,7 @@ namespace wirefem::io
       if (!caption.empty())
         {
           const double font_px = std::max(10.0, size / 60.0);
-          cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
-                                 CAIRO_FONT_WEIGHT_NORMAL);
+          cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
           cairo_set_font_size(cr, font_px);
           cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
           cairo_move_to(cr, 0.5 * font_px, size - 0.6 * font_px);
@@ -255,9 +249,7 @@ namespace wirefem::io
     }
 
     /// Draws on a fresh context and reports any error the context collected.
-    void render(cairo_surface_t *surface,
-                const Scene &scene,
-                const std::string &caption,
+    void render(cairo_surface_t *surface, const Scene &scene, const std::string &caption,
                 const std::string &file)
     {
       const ContextPtr cr(cairo_create(surface));
@@ -266,10 +258,8 @@ namespace wirefem::io
     }
   } // namespace
 
-  void write_pictures(const analysis::WireState &wire,
-                      const std::string &png_file,
-                      const std::string &svg_file,
-                      const PictureOptions &options)
+  void write_pictures(const analysis::WireState &wire, const std::string &png_file,
+                      const std::string &svg_file, const PictureOptions &options)
   {
     if (options.size_px <= 0)
       throw std::invalid_argument("wirefem::io::write_pictures: size_px must be positive, got " +
@@ -278,8 +268,7 @@ namespace wirefem::io
     const Scene scene = make_scene(wire, options.size_px);
 
     {
-      const SurfacePtr png(
-        cairo_image_surface_create(CAIRO_FORMAT_ARGB32, options.size_px, options.size_px));
+      const SurfacePtr png(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, options.size_px, options.size_px));
       check(cairo_surface_status(png.get()), "create image for", png_file);
       render(png.get(), scene, options.caption, png_file);
       check(cairo_surface_write_to_png(png.get(), png_file.c_str()), "write", png_file);
@@ -288,8 +277,7 @@ namespace wirefem::io
     {
       // The SVG surface writes lazily; errors opening or writing the file
       // only show up in the surface status, checked at each stage.
-      const SurfacePtr svg(
-        cairo_svg_surface_create(svg_file.c_str(), options.size_px, options.size_px));
+      const SurfacePtr svg(cairo_svg_surface_create(svg_file.c_str(), options.size_px, options.size_px));
       check(cairo_surface_status(svg.get()), "open", svg_file);
       cairo_svg_surface_set_document_unit(svg.get(), CAIRO_SVG_UNIT_PX);
       render(svg.get(), scene, options.caption, svg_file);

@@ -13,7 +13,8 @@ namespace wirefem::io
     // a long run does not flood a CI log.
     , interval_s(terminal ? 0.25 : 10.0)
     , last(std::chrono::steady_clock::now())
-  {}
+  {
+  }
 
   void Progress::update(const std::string &line)
   {

@@ -34,30 +34,28 @@ namespace wirefem::io
       for (const char c : text)
         switch (c)
           {
-            case '&':
-              out += "&amp;";
-              break;
-            case '<':
-              out += "&lt;";
-              break;
-            case '>':
-              out += "&gt;";
-              break;
-            case '"':
-              out += "&quot;";
-              break;
-            case '\'':
-              out += "&apos;";
-              break;
-            default:
-              out += c;
+          case '&':
+            out += "&amp;";
+            break;
+          case '<':
+            out += "&lt;";
+            break;
+          case '>':
+            out += "&gt;";
+            break;
+          case '"':
+            out += "&quot;";
+            break;
+          case '\'':
+            out += "&apos;";
+            break;
+          default:
+            out += c;
           }
       return out;
     }
 
-    void write_point_array(std::ostream &out,
-                           const std::string &name,
-                           const std::vector<double> &values)
+    void write_point_array(std::ostream &out, const std::string &name, const std::vector<double> &values)
     {
       out << "        <DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
       for (std::size_t i = 0; i < values.size(); ++i)
@@ -89,11 +87,11 @@ namespace wirefem::io
     // Per-point fields that a model did not fill (or filled inconsistently)
     // are left out rather than padded: a made-up array would look real.
     const std::pair<const char *, const std::vector<double> *> fields[] = {
-      {"arc_length", &wire.arc_length},
-      {"curvature", &wire.curvature},
-      {"plastic_curvature", &wire.plastic_curvature},
-      {"bending_energy", &wire.bending_energy},
-      {"contact_force", &wire.contact_force}};
+        {"arc_length", &wire.arc_length},
+        {"curvature", &wire.curvature},
+        {"plastic_curvature", &wire.plastic_curvature},
+        {"bending_energy", &wire.bending_energy},
+        {"contact_force", &wire.contact_force}};
 
     file << "<?xml version=\"1.0\"?>\n"
          << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
@@ -104,8 +102,7 @@ namespace wirefem::io
             "format=\"ascii\">"
          << wire.time << "</DataArray>\n"
          << "    </FieldData>\n"
-         << "    <Piece NumberOfPoints=\"" << n_points << "\" NumberOfCells=\"" << n_cells
-         << "\">\n"
+         << "    <Piece NumberOfPoints=\"" << n_points << "\" NumberOfCells=\"" << n_cells << "\">\n"
          << "      <PointData>\n";
     for (const auto &[name, values] : fields)
       if (n_points > 0 && values->size() == n_points)
@@ -142,7 +139,8 @@ namespace wirefem::io
 
   PvdCollection::PvdCollection(std::string pvd_filename)
     : filename(std::move(pvd_filename))
-  {}
+  {
+  }
 
   void PvdCollection::add(const double time, const std::string &vtu_relative_path)
   {
@@ -163,8 +161,8 @@ namespace wirefem::io
              << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
              << "  <Collection>\n";
         for (const auto &[time, path] : records)
-          file << "    <DataSet timestep=\"" << time << "\" group=\"\" part=\"0\" file=\""
-               << xml_escape(path) << "\"/>\n";
+          file << "    <DataSet timestep=\"" << time << "\" group=\"\" part=\"0\" file=\"" << xml_escape(path)
+               << "\"/>\n";
         file << "  </Collection>\n"
              << "</VTKFile>\n";
         finish(file, tmp, "wirefem::io::PvdCollection::write");
@@ -181,8 +179,8 @@ namespace wirefem::io
     if (std::rename(tmp.c_str(), filename.c_str()) != 0)
       {
         std::remove(tmp.c_str());
-        throw std::runtime_error("wirefem::io::PvdCollection::write: cannot rename '" + tmp +
-                                 "' to '" + filename + "'");
+        throw std::runtime_error("wirefem::io::PvdCollection::write: cannot rename '" + tmp + "' to '" +
+                                 filename + "'");
       }
   }
 } // namespace wirefem::io

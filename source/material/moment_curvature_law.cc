@@ -7,12 +7,11 @@ namespace wirefem::material
 {
   MomentCurvatureLaw::MomentCurvatureLaw(const double stiffness)
     : stiffness(stiffness)
-  {}
+  {
+  }
 
-  MomentCurvatureLaw::MomentCurvatureLaw(const double stiffness,
-                                         const double yield_strain,
-                                         const double hardening_slope,
-                                         const scene::Hardening hardening)
+  MomentCurvatureLaw::MomentCurvatureLaw(const double stiffness, const double yield_strain,
+                                         const double hardening_slope, const scene::Hardening hardening)
     : stiffness(stiffness)
     , yield_moment(stiffness * yield_strain)
     , hardening(hardening)
@@ -39,8 +38,7 @@ namespace wirefem::material
       }
     const bool kinematic = hardening == scene::Hardening::kinematic;
     const double back = kinematic ? hardening_modulus * old.plastic_strain : 0.0;
-    const double radius =
-      yield_moment + (kinematic ? 0.0 : hardening_modulus * old.accumulated_strain);
+    const double radius = yield_moment + (kinematic ? 0.0 : hardening_modulus * old.accumulated_strain);
     const double xi = trial - back;
     const double f = std::abs(xi) - radius;
     if (f <= 0.0)

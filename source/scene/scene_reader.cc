@@ -41,12 +41,13 @@ namespace wirefem::scene
     class Declarations
     {
     public:
-      explicit Declarations(ParameterHandler &prm) : prm(prm) {}
+      explicit Declarations(ParameterHandler &prm)
+        : prm(prm)
+      {
+      }
 
-      void declare(const std::string &path,
-                   const std::string &default_value,
-                   const Patterns::PatternBase &pattern,
-                   const std::string &doc)
+      void declare(const std::string &path, const std::string &default_value,
+                   const Patterns::PatternBase &pattern, const std::string &doc)
       {
         auto parts = split_path(path);
         const std::string name = parts.back();
@@ -171,7 +172,9 @@ namespace wirefem::scene
       d.declare("Contact/Friction/Threshold velocity", "0.01", any_double,
                 "v_th (d/time): a sliding contact sticks again below this tangential speed.");
       d.declare("Contact/Friction/Tangential stiffness ratio", "0.2", any_double,
-                "k_t/k_n of the spring that carries static friction while a contact sticks. 0.2 (close to the 2/7 of elastic spheres): stiffer springs raise the first-order time-stepping error of the energy balance at mu_st = 5 (1% at 0.5, 0.3% at 0.1 on the f = 25 classic scene).");
+                "k_t/k_n of the spring that carries static friction while a contact sticks. 0.2 (close to "
+                "the 2/7 of elastic spheres): stiffer springs raise the first-order time-stepping error of "
+                "the energy balance at mu_st = 5 (1% at 0.5, 0.3% at 0.1 on the f = 25 classic scene).");
 
       d.declare("Injection/Speed", "1", any_double,
                 "Injection speed of each channel (d/time). 1 is 1/30 of the axial wave speed "
@@ -220,7 +223,10 @@ namespace wirefem::scene
                 "(mu = 0, kappa_theta*lambda_0 >= pi); for checking that they change nothing.");
     }
 
-    double parse_double_or_inf(const std::string &s) { return s == "inf" ? INFINITY : std::stod(s); }
+    double parse_double_or_inf(const std::string &s)
+    {
+      return s == "inf" ? INFINITY : std::stod(s);
+    }
 
     void check(bool ok, const std::string &where, const std::string &key, const std::string &why)
     {
@@ -240,8 +246,8 @@ namespace wirefem::scene
       pl.enabled = d.get_bool("Wire/Plasticity/Enabled");
       pl.yield_curvature = d.get_double("Wire/Plasticity/Yield curvature");
       pl.hardening_slope = d.get_double("Wire/Plasticity/Hardening slope");
-      pl.hardening = d.get("Wire/Plasticity/Hardening") == "isotropic" ? Hardening::isotropic
-                                                                       : Hardening::kinematic;
+      pl.hardening =
+          d.get("Wire/Plasticity/Hardening") == "isotropic" ? Hardening::isotropic : Hardening::kinematic;
       auto &c = s.contact;
       c.wall_contact = d.get_bool("Contact/Wall contact");
       c.self_contact = d.get_bool("Contact/Self contact");
@@ -272,8 +278,8 @@ namespace wirefem::scene
         }
       catch (const std::exception &)
         {
-          check(false, where, "Injection/Maximum time", "'" + d.get("Injection/Maximum time") +
-                                                          "' is not a number or 'inf'");
+          check(false, where, "Injection/Maximum time",
+                "'" + d.get("Injection/Maximum time") + "' is not a number or 'inf'");
         }
       auto &ds = s.discrete;
       ds.segment_length = d.get_double("Discrete/Segment length");
@@ -310,11 +316,10 @@ namespace wirefem::scene
       check(c.exclusion_length >= 0, w, "Contact/Exclusion length", "must not be negative");
       const auto &f = c.friction;
       check(f.static_coefficient >= 0, w, "Contact/Friction/Static coefficient", "must not be negative");
-      check(f.dynamic_coefficient >= 0, w, "Contact/Friction/Dynamic coefficient",
-            "must not be negative");
+      check(f.dynamic_coefficient >= 0, w, "Contact/Friction/Dynamic coefficient", "must not be negative");
       check(f.dynamic_coefficient <= f.static_coefficient, w, "Contact/Friction/Dynamic coefficient",
             "mu_d = " + std::to_string(f.dynamic_coefficient) + " exceeds the static coefficient " +
-              std::to_string(f.static_coefficient));
+                std::to_string(f.static_coefficient));
       check(f.wall_dynamic_coefficient <= f.wall_static_coefficient, w,
             "Contact/Friction/Wall dynamic coefficient", "exceeds the wall static coefficient");
       check(f.threshold_velocity >= 0, w, "Contact/Friction/Threshold velocity", "must not be negative");
@@ -327,8 +332,7 @@ namespace wirefem::scene
       const double phi0 = 2.0 * s.cavity.radius / (M_PI * s.cavity.radius * s.cavity.radius);
       check(in.maximum_packing_density > phi0, w, "Injection/Maximum packing density",
             "must exceed the initial packing density 2/(pi r) = " + std::to_string(phi0));
-      check(in.maximum_packing_density <= 1.0, w, "Injection/Maximum packing density",
-            "must not exceed 1");
+      check(in.maximum_packing_density <= 1.0, w, "Injection/Maximum packing density", "must not exceed 1");
       check(in.jamming_force > 0, w, "Injection/Jamming force", "must be positive");
       check(in.jamming_window > 0, w, "Injection/Jamming window", "must be positive");
       check(in.maximum_time > 0, w, "Injection/Maximum time", "must be positive");

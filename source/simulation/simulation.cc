@@ -20,11 +20,27 @@ namespace wirefem::simulation
 {
   namespace
   {
-    const std::vector<std::string> columns = {
-      "time", "injected_length", "phi", "force", "force_left", "force_right", "loops", "contacts",
-      "wall_contacts", "energy_bending", "energy_stretching", "energy_kinetic", "energy_contact",
-      "plastic_dissipation", "friction_dissipation", "damping_dissipation", "injection_work",
-      "energy_balance_error", "max_penetration", "symmetry", "curvature_ratio"};
+    const std::vector<std::string> columns = {"time",
+                                              "injected_length",
+                                              "phi",
+                                              "force",
+                                              "force_left",
+                                              "force_right",
+                                              "loops",
+                                              "contacts",
+                                              "wall_contacts",
+                                              "energy_bending",
+                                              "energy_stretching",
+                                              "energy_kinetic",
+                                              "energy_contact",
+                                              "plastic_dissipation",
+                                              "friction_dissipation",
+                                              "damping_dissipation",
+                                              "injection_work",
+                                              "energy_balance_error",
+                                              "max_penetration",
+                                              "symmetry",
+                                              "curvature_ratio"};
 
     std::string join(const std::vector<std::string> &v)
     {
@@ -79,12 +95,27 @@ namespace wirefem::simulation
       const auto &e = model.energies();
       const auto &s = model.last_step();
       const double phi = analysis::packing_density(w.injected_length, r);
-      series.write_row({model.time(), w.injected_length, phi,
-                        0.5 * (model.force_left() + model.force_right()), model.force_left(),
-                        model.force_right(), double(loops), double(s.n_self_contacts),
-                        double(s.n_wall_contacts), e.bending, e.stretching, e.kinetic, e.contact,
-                        e.plastic, e.friction, e.damping, e.injection_work, e.balance_error(),
-                        s.max_penetration, morph.symmetry, morph.curvature_ratio});
+      series.write_row({model.time(),
+                        w.injected_length,
+                        phi,
+                        0.5 * (model.force_left() + model.force_right()),
+                        model.force_left(),
+                        model.force_right(),
+                        double(loops),
+                        double(s.n_self_contacts),
+                        double(s.n_wall_contacts),
+                        e.bending,
+                        e.stretching,
+                        e.kinetic,
+                        e.contact,
+                        e.plastic,
+                        e.friction,
+                        e.damping,
+                        e.injection_work,
+                        e.balance_error(),
+                        s.max_penetration,
+                        morph.symmetry,
+                        morph.curvature_ratio});
       if (force_vtu || (scene.output.vtu_interval > 0 && w.injected_length >= next_vtu))
         {
           write_vtu(w);
@@ -131,15 +162,17 @@ namespace wirefem::simulation
           {
             result.failed = true;
             result.stop_reason = fmt::format(
-              "contact overlap {:.3f} d exceeds 0.5 d: Contact/Normal stiffness too low for the forces, "
-              "or the time step too large", s.max_penetration);
+                "contact overlap {:.3f} d exceeds 0.5 d: Contact/Normal stiffness too low for the forces, "
+                "or the time step too large",
+                s.max_penetration);
             break;
           }
         if (force_mean > inj.jamming_force)
           {
             result.jammed = true;
-            result.stop_reason = fmt::format("jammed: mean inlet force {:.4g} > Injection/Jamming force {:.4g}",
-                                             force_mean, inj.jamming_force);
+            result.stop_reason =
+                fmt::format("jammed: mean inlet force {:.4g} > Injection/Jamming force {:.4g}", force_mean,
+                            inj.jamming_force);
             break;
           }
         if (phi >= phi_max)
@@ -155,7 +188,7 @@ namespace wirefem::simulation
         if (model.n_steps() % 64 == 0)
           {
             const double elapsed =
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
             const double rate = model.n_steps() / std::max(elapsed, 1e-9);
             const double phi0 = analysis::packing_density(2.0 * r, r);
             const double eta = (phi > phi0) ? elapsed * (phi_max - phi) / (phi - phi0) : 0.0;
@@ -205,10 +238,17 @@ namespace wirefem::simulation
     j["wall_time_s"] = result.wall_time_s;
     j["active_effects"] = model.active_effects();
     j["max_penetration"] = result.max_penetration;
-    j["energy"] = {{"initial", e.initial}, {"injection_work", e.injection_work}, {"stretching", e.stretching}, {"bending", e.bending},
-                   {"contact", e.contact}, {"kinetic", e.kinetic}, {"friction_stored", e.friction_stored},
-                   {"plastic_dissipation", e.plastic}, {"friction_dissipation", e.friction},
-                   {"damping_dissipation", e.damping}, {"balance_error", e.balance_error()}};
+    j["energy"] = {{"initial", e.initial},
+                   {"injection_work", e.injection_work},
+                   {"stretching", e.stretching},
+                   {"bending", e.bending},
+                   {"contact", e.contact},
+                   {"kinetic", e.kinetic},
+                   {"friction_stored", e.friction_stored},
+                   {"plastic_dissipation", e.plastic},
+                   {"friction_dissipation", e.friction},
+                   {"damping_dissipation", e.damping},
+                   {"balance_error", e.balance_error()}};
     j["force_final"] = 0.5 * (model.force_left() + model.force_right());
     std::ofstream((dir / "summary.json").string()) << j.dump(2) << '\n';
 

@@ -17,11 +17,13 @@ namespace wirefem::analysis
 
   struct Morphology
   {
-    std::string phase;            ///< spiral | classic | plastic
-    double curvature_ratio = 0.0; ///< A/B: squared curvature in the inner disc over the outer ring (equal areas)
-    double symmetry = 0.0;        ///< 1 = mirror-symmetric about the axis perpendicular to the channels, 0 = none
-    double winding_left = 0.0;    ///< polar angle swept around the centre from the left inlet to mid-wire (turns)
-    double winding_right = 0.0;   ///< same from the right inlet (turns)
+    std::string phase; ///< spiral | classic | plastic
+    double curvature_ratio =
+        0.0;               ///< A/B: squared curvature in the inner disc over the outer ring (equal areas)
+    double symmetry = 0.0; ///< 1 = mirror-symmetric about the axis perpendicular to the channels, 0 = none
+    double winding_left =
+        0.0; ///< polar angle swept around the centre from the left inlet to mid-wire (turns)
+    double winding_right = 0.0; ///< same from the right inlet (turns)
   };
 
   /// Spiral when both halves of the wire wind at least `spiral_turns` around

@@ -37,9 +37,9 @@ namespace wirefem::analysis
     double time = 0.0;
     double injected_length = 0.0; ///< wire length inside the cavity L (units d)
 
-    std::vector<geometry::Vec2> points; ///< centreline, left inlet to right inlet
-    std::vector<double> arc_length;     ///< rest arc length from the first point (d)
-    std::vector<double> curvature;      ///< signed curvature (1/d), + = turning left
+    std::vector<geometry::Vec2> points;    ///< centreline, left inlet to right inlet
+    std::vector<double> arc_length;        ///< rest arc length from the first point (d)
+    std::vector<double> curvature;         ///< signed curvature (1/d), + = turning left
     std::vector<double> plastic_curvature; ///< plastic (permanent) curvature (1/d)
     std::vector<double> bending_energy;    ///< elastic bending energy lumped at the point
     std::vector<double> contact_force;     ///< sum of contact normal forces at the point

@@ -21,10 +21,7 @@ namespace wirefem::contact
   {
     int i = 0;
     int j = 0;
-    friend bool operator==(const SegmentPair &a, const SegmentPair &b)
-    {
-      return a.i == b.i && a.j == b.j;
-    }
+    friend bool operator==(const SegmentPair &a, const SegmentPair &b) { return a.i == b.i && a.j == b.j; }
     friend bool operator<(const SegmentPair &a, const SegmentPair &b)
     {
       return a.i < b.i || (a.i == b.i && a.j < b.j);
@@ -50,11 +47,8 @@ namespace wirefem::contact
 
     /// All pairs closer than `cutoff` and more than `exclusion` apart, by
     /// checking every pair: the reference for tests. Sorted by (i, j).
-    static std::vector<SegmentPair> brute_force(const std::vector<geometry::Vec2> &x,
-                                                int first_node,
-                                                int last_node,
-                                                double cutoff,
-                                                int exclusion);
+    static std::vector<SegmentPair> brute_force(const std::vector<geometry::Vec2> &x, int first_node,
+                                                int last_node, double cutoff, int exclusion);
 
   private:
     void rebuild(const std::vector<geometry::Vec2> &x, int first_node, int last_node);

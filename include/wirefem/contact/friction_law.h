@@ -7,10 +7,10 @@
 // exceeded the contact slides and the cap drops to mu_d F_N; it sticks again
 // (cap mu_st F_N) once the relative tangential speed falls below v_th. When
 // the cap is hit, the spring is shortened to the cap (the slip); the work the
-// friction force took from the wire and the spring did not store is dissipated. Capping the spring rather than applying
-// -mu_d F_N sign(v_t) keeps sliding free of chatter in an explicit scheme.
-// Sign convention: v_t is the velocity of side A relative to side B along the
-// contact tangent t; the returned force acts on A along t (B gets minus it).
+// friction force took from the wire and the spring did not store is dissipated. Capping the spring rather
+// than applying -mu_d F_N sign(v_t) keeps sliding free of chatter in an explicit scheme. Sign convention: v_t
+// is the velocity of side A relative to side B along the contact tangent t; the returned force acts on A
+// along t (B gets minus it).
 #pragma once
 
 #include <cmath>
@@ -21,7 +21,7 @@ namespace wirefem::contact
   {
     double mu_static = 0.0;
     double mu_dynamic = 0.0;
-    double threshold_velocity = 0.0; ///< v_th (d / time)
+    double threshold_velocity = 0.0;   ///< v_th (d / time)
     double tangential_stiffness = 0.0; ///< k_t (force / d)
   };
 
@@ -40,11 +40,8 @@ namespace wirefem::contact
   };
 
   /// One explicit update over a time step dt.
-  inline FrictionResult friction_update(const FrictionCoefficients &c,
-                                        const double normal_force,
-                                        const double v_t,
-                                        const double dt,
-                                        const FrictionHistory &old)
+  inline FrictionResult friction_update(const FrictionCoefficients &c, const double normal_force,
+                                        const double v_t, const double dt, const FrictionHistory &old)
   {
     FrictionResult r;
     const bool keeps_sliding = old.sliding && (v_t >= c.threshold_velocity || -v_t >= c.threshold_velocity);

@@ -18,8 +18,6 @@ namespace wirefem::contact
     geometry::Vec2 q;
   };
 
-  ClosestPoints closest_points(const geometry::Vec2 &a0,
-                               const geometry::Vec2 &a1,
-                               const geometry::Vec2 &b0,
+  ClosestPoints closest_points(const geometry::Vec2 &a0, const geometry::Vec2 &a1, const geometry::Vec2 &b0,
                                const geometry::Vec2 &b1);
 } // namespace wirefem::contact

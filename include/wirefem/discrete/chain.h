@@ -22,34 +22,35 @@ namespace wirefem::discrete
     int last = 0;           ///< one past the last active node
     int n_prescribed = 2;   ///< nodes held by each channel
 
-    std::vector<geometry::Vec2> x; ///< positions (d)
-    std::vector<geometry::Vec2> v; ///< velocities (d / time)
-    std::vector<geometry::Vec2> f; ///< forces of the current step
+    std::vector<geometry::Vec2> x;     ///< positions (d)
+    std::vector<geometry::Vec2> v;     ///< velocities (d / time)
+    std::vector<geometry::Vec2> f;     ///< forces of the current step
     std::vector<double> contact_force; ///< sum of contact normal forces per node (output)
 
     explicit Chain(int capacity = 0)
-      : x(capacity), v(capacity), f(capacity), contact_force(capacity)
-    {}
+      : x(capacity)
+      , v(capacity)
+      , f(capacity)
+      , contact_force(capacity)
+    {
+    }
     int capacity() const { return static_cast<int>(x.size()); }
     int n_active() const { return last - first; }
-    bool is_free(const int k) const
-    {
-      return k >= first + n_prescribed && k < last - n_prescribed;
-    }
+    bool is_free(const int k) const { return k >= first + n_prescribed && k < last - n_prescribed; }
   };
 
   /// What the force terms of one step report: potential energies at the
   /// current state and the increments of dissipated work over the step.
   struct StepEnergy
   {
-    double stretching = 0.0;        ///< sum 1/2 k1 (lambda - lambda_0)^2
-    double bending = 0.0;           ///< sum 1/2 k2 (zeta - zeta_p)^2
-    double contact = 0.0;           ///< penalty energy 1/2 k_n overlap^2
-    double friction_stored = 0.0;   ///< energy in sticking springs 1/2 k_t u^2
-    double damping_work = 0.0;      ///< dissipated by viscous damping this step
-    double plastic_work = 0.0;      ///< plastic work this step
-    double friction_work = 0.0;     ///< work dissipated by slip this step
-    double max_penetration = 0.0;   ///< largest overlap (d)
+    double stretching = 0.0;      ///< sum 1/2 k1 (lambda - lambda_0)^2
+    double bending = 0.0;         ///< sum 1/2 k2 (zeta - zeta_p)^2
+    double contact = 0.0;         ///< penalty energy 1/2 k_n overlap^2
+    double friction_stored = 0.0; ///< energy in sticking springs 1/2 k_t u^2
+    double damping_work = 0.0;    ///< dissipated by viscous damping this step
+    double plastic_work = 0.0;    ///< plastic work this step
+    double friction_work = 0.0;   ///< work dissipated by slip this step
+    double max_penetration = 0.0; ///< largest overlap (d)
     int n_self_contacts = 0;
     int n_wall_contacts = 0;
   };

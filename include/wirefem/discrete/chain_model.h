@@ -30,8 +30,8 @@ namespace wirefem::discrete
     double friction = 0.0;        ///< dissipated by slip of the friction springs
     double friction_stored = 0.0; ///< in sticking springs now
     double damping = 0.0;
-    double injection_work = 0.0;  ///< work of the channels plus kinetic energy of entering wire
-    double initial = 0.0;         ///< stored in the perturbed initial wire at t = 0
+    double injection_work = 0.0; ///< work of the channels plus kinetic energy of entering wire
+    double initial = 0.0;        ///< stored in the perturbed initial wire at t = 0
 
     double stored() const { return stretching + bending + contact + friction_stored + kinetic; }
     double dissipated() const { return plastic + friction + damping; }

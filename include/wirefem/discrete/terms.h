@@ -18,7 +18,10 @@ namespace wirefem::discrete
   class StretchingTerm : public Term
   {
   public:
-    explicit StretchingTerm(double k1) : k1(k1) {}
+    explicit StretchingTerm(double k1)
+      : k1(k1)
+    {
+    }
     const char *name() const override { return "stretching"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
 
@@ -60,7 +63,11 @@ namespace wirefem::discrete
   class CurvatureLimitTerm : public Term
   {
   public:
-    CurvatureLimitTerm(double zeta_max, double stiffness) : zeta_max(zeta_max), stiffness(stiffness) {}
+    CurvatureLimitTerm(double zeta_max, double stiffness)
+      : zeta_max(zeta_max)
+      , stiffness(stiffness)
+    {
+    }
     const char *name() const override { return "curvature limit"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
 
@@ -73,7 +80,10 @@ namespace wirefem::discrete
   class DampingTerm : public Term
   {
   public:
-    explicit DampingTerm(double gamma) : gamma(gamma) {}
+    explicit DampingTerm(double gamma)
+      : gamma(gamma)
+    {
+    }
     const char *name() const override { return "damping"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
 
@@ -124,8 +134,8 @@ namespace wirefem::discrete
 
     struct ActivePair
     {
-      int i, j;         ///< segments
-      double s, t;      ///< closest-point parameters
+      int i, j;    ///< segments
+      double s, t; ///< closest-point parameters
       double normal_force;
     };
     const std::vector<ActivePair> &active_pairs() const { return active; }

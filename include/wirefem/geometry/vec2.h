@@ -31,17 +31,47 @@ namespace wirefem::geometry
     }
   };
 
-  constexpr Vec2 operator+(Vec2 a, const Vec2 &b) { return a += b; }
-  constexpr Vec2 operator-(Vec2 a, const Vec2 &b) { return a -= b; }
-  constexpr Vec2 operator-(const Vec2 &a) { return {-a.x, -a.y}; }
-  constexpr Vec2 operator*(const double s, Vec2 a) { return a *= s; }
-  constexpr Vec2 operator*(Vec2 a, const double s) { return a *= s; }
+  constexpr Vec2 operator+(Vec2 a, const Vec2 &b)
+  {
+    return a += b;
+  }
+  constexpr Vec2 operator-(Vec2 a, const Vec2 &b)
+  {
+    return a -= b;
+  }
+  constexpr Vec2 operator-(const Vec2 &a)
+  {
+    return {-a.x, -a.y};
+  }
+  constexpr Vec2 operator*(const double s, Vec2 a)
+  {
+    return a *= s;
+  }
+  constexpr Vec2 operator*(Vec2 a, const double s)
+  {
+    return a *= s;
+  }
 
-  constexpr double dot(const Vec2 &a, const Vec2 &b) { return a.x * b.x + a.y * b.y; }
+  constexpr double dot(const Vec2 &a, const Vec2 &b)
+  {
+    return a.x * b.x + a.y * b.y;
+  }
   /// z-component of the 3D cross product: positive when b is counter-clockwise of a.
-  constexpr double cross(const Vec2 &a, const Vec2 &b) { return a.x * b.y - a.y * b.x; }
+  constexpr double cross(const Vec2 &a, const Vec2 &b)
+  {
+    return a.x * b.y - a.y * b.x;
+  }
   /// a rotated by +90 degrees (counter-clockwise).
-  constexpr Vec2 perp(const Vec2 &a) { return {-a.y, a.x}; }
-  inline double norm(const Vec2 &a) { return std::hypot(a.x, a.y); }
-  constexpr double norm_square(const Vec2 &a) { return a.x * a.x + a.y * a.y; }
+  constexpr Vec2 perp(const Vec2 &a)
+  {
+    return {-a.y, a.x};
+  }
+  inline double norm(const Vec2 &a)
+  {
+    return std::hypot(a.x, a.y);
+  }
+  constexpr double norm_square(const Vec2 &a)
+  {
+    return a.x * a.x + a.y * a.y;
+  }
 } // namespace wirefem::geometry

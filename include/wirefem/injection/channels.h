@@ -26,12 +26,13 @@ namespace wirefem::injection
   {
   public:
     Channels(double radius, double speed, double ramp_time = 0.0)
-      : radius(radius), speed(speed), ramp(ramp_time) {}
-
-    geometry::Vec2 inlet(Side s) const
+      : radius(radius)
+      , speed(speed)
+      , ramp(ramp_time)
     {
-      return {s == Side::left ? -radius : radius, 0.0};
     }
+
+    geometry::Vec2 inlet(Side s) const { return {s == Side::left ? -radius : radius, 0.0}; }
     /// Unit vector along which the channel pushes, into the cavity.
     geometry::Vec2 axis(Side s) const { return {s == Side::left ? 1.0 : -1.0, 0.0}; }
 

@@ -20,8 +20,8 @@ namespace wirefem::material
   /// History of one rotational spring / quadrature point.
   struct PlasticState
   {
-    double plastic_strain = 0.0;      ///< e_p (angle or curvature)
-    double accumulated_strain = 0.0;  ///< alpha = int |de_p| (isotropic hardening)
+    double plastic_strain = 0.0;     ///< e_p (angle or curvature)
+    double accumulated_strain = 0.0; ///< alpha = int |de_p| (isotropic hardening)
   };
 
   struct MomentResult

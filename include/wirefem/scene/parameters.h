@@ -38,19 +38,19 @@ namespace wirefem::scene
 
   struct WireParameters
   {
-    double axial_stiffness = 1000.0;  ///< EA (force)
-    double bending_stiffness = 60.0;  ///< EI (force d^2)
-    double mass_per_length = 1.0;     ///< rho A (mass / d)
+    double axial_stiffness = 1000.0; ///< EA (force)
+    double bending_stiffness = 60.0; ///< EI (force d^2)
+    double mass_per_length = 1.0;    ///< rho A (mass / d)
     PlasticityParameters plasticity;
   };
 
   struct FrictionParameters
   {
-    double static_coefficient = 0.0;       ///< mu_st, wire-wire
-    double dynamic_coefficient = 0.0;      ///< mu_d <= mu_st, wire-wire
-    double wall_static_coefficient = 0.0;  ///< mu_st at the wall
-    double wall_dynamic_coefficient = 0.0; ///< mu_d at the wall
-    double threshold_velocity = 0.01;      ///< v_th (d / time): below it, static again
+    double static_coefficient = 0.0;         ///< mu_st, wire-wire
+    double dynamic_coefficient = 0.0;        ///< mu_d <= mu_st, wire-wire
+    double wall_static_coefficient = 0.0;    ///< mu_st at the wall
+    double wall_dynamic_coefficient = 0.0;   ///< mu_d at the wall
+    double threshold_velocity = 0.01;        ///< v_th (d / time): below it, static again
     double tangential_stiffness_ratio = 0.2; ///< k_t / k_n of the sticking spring
   };
 
@@ -66,20 +66,20 @@ namespace wirefem::scene
 
   struct InjectionParameters
   {
-    double speed = 1.0;            ///< injection speed of each channel (d / time)
-    double ramp_time = 10.0;       ///< time over which the speed rises smoothly from 0
-    unsigned int seed = 1;         ///< seed of the symmetry-breaking perturbation
-    double perturbation = 0.5;     ///< amplitude of the initial transverse perturbation (d)
+    double speed = 1.0;                   ///< injection speed of each channel (d / time)
+    double ramp_time = 10.0;              ///< time over which the speed rises smoothly from 0
+    unsigned int seed = 1;                ///< seed of the symmetry-breaking perturbation
+    double perturbation = 0.5;            ///< amplitude of the initial transverse perturbation (d)
     double maximum_packing_density = 0.6; ///< stop at this phi even if not jammed
-    double jamming_force = 50.0;   ///< jammed when the mean inlet force exceeds this (force)
-    double jamming_window = 1.0;   ///< injected length over which the force is averaged (d)
+    double jamming_force = 50.0;          ///< jammed when the mean inlet force exceeds this (force)
+    double jamming_window = 1.0;          ///< injected length over which the force is averaged (d)
     double maximum_time = std::numeric_limits<double>::infinity(); ///< stop at this time
   };
 
   struct DiscreteParameters
   {
-    double segment_length = 1.0;   ///< lambda_0 (d)
-    double time_step = 0.0;        ///< 0: automatic, time_step_factor * stability limit
+    double segment_length = 1.0; ///< lambda_0 (d)
+    double time_step = 0.0;      ///< 0: automatic, time_step_factor * stability limit
     double time_step_factor = 0.25;
     double translational_damping = 0.05; ///< gamma: damping force -gamma m v (1 / time)
     double rotational_damping = 0.5;     ///< c: damping moment -c dzeta/dt (force d time)
@@ -87,17 +87,17 @@ namespace wirefem::scene
 
   struct OutputParameters
   {
-    std::string directory;       ///< empty: output/<scene name>
-    double interval = 1.0;       ///< injected length between rows of series.csv (d)
-    double vtu_interval = 20.0;  ///< injected length between VTU files (d); 0: none
-    int picture_size = 1000;     ///< pixels
+    std::string directory;         ///< empty: output/<scene name>
+    double interval = 1.0;         ///< injected length between rows of series.csv (d)
+    double vtu_interval = 20.0;    ///< injected length between VTU files (d); 0: none
+    int picture_size = 1000;       ///< pixels
     std::string progress = "auto"; ///< auto | on | off
   };
 
   struct Scene
   {
-    std::string name;       ///< prm file stem
-    std::string prm_file;   ///< as given on the command line
+    std::string name;     ///< prm file stem
+    std::string prm_file; ///< as given on the command line
     ModelType model = ModelType::discrete;
     CavityParameters cavity;
     WireParameters wire;
@@ -108,9 +108,6 @@ namespace wirefem::scene
     bool keep_neutral_effects = false; ///< build effects even with neutral parameters
 
     /// Yield angle alpha_theta = kappa_theta * lambda_0 of the discrete model.
-    double yield_angle() const
-    {
-      return wire.plasticity.yield_curvature * discrete.segment_length;
-    }
+    double yield_angle() const { return wire.plasticity.yield_curvature * discrete.segment_length; }
   };
 } // namespace wirefem::scene

@@ -12,7 +12,7 @@ namespace wirefem::simulation
   struct RunResult
   {
     bool jammed = false;
-    bool failed = false;   ///< stopped by a numerical limit (NaN, blow-up, storage)
+    bool failed = false; ///< stopped by a numerical limit (NaN, blow-up, storage)
     std::string stop_reason;
     double phi_final = 0.0;
     unsigned long steps = 0;
