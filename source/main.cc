@@ -1,5 +1,6 @@
 // The wirefem executable: reads a scene, runs it, writes the output.
-// Exit status: 0 finished, 2 bad input, 3 stopped by a numerical limit.
+// Exit status: 0 finished, 2 bad input, 3 stopped by a numerical limit,
+// 130 interrupted (a checkpoint was written; continue with --resume).
 #include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/simulation.h>
 
@@ -14,11 +15,13 @@ int main(int argc, char **argv)
   std::string prm_file;
   std::vector<std::string> overrides;
   bool print = false;
+  bool resume = false;
   app.add_option("scene", prm_file, "Scene file (.prm, deal.II ParameterHandler format)");
   app.add_option("--set", overrides, "Override a key: \"Section/Key=value\" (repeatable)")
       ->allow_extra_args(false)
       ->take_all();
   app.add_flag("--print-parameters", print, "Print every key with its default and documentation");
+  app.add_flag("--resume", resume, "Continue an interrupted run from its output directory's checkpoint.bin");
   try
     {
       app.parse(argc, argv);
@@ -54,8 +57,13 @@ int main(int argc, char **argv)
     }
   try
     {
-      const auto result = wirefem::simulation::run(scene);
-      return result.failed ? 3 : 0;
+      const auto result = wirefem::simulation::run(scene, {resume});
+      return result.interrupted ? 130 : (result.failed ? 3 : 0);
+    }
+  catch (const wirefem::scene::InputError &e)
+    {
+      std::cerr << "wirefem: error: " << e.what() << '\n';
+      return 2;
     }
   catch (const std::exception &e)
     {

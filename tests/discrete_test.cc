@@ -12,6 +12,7 @@
 #include <cstring>
 #include <functional>
 #include <random>
+#include <sstream>
 
 namespace
 {
@@ -250,5 +251,38 @@ namespace
     EXPECT_GT(e.friction, 0.0);
     EXPECT_GT(e.plastic, 0.0);
     EXPECT_LT(std::abs(e.balance_error()), 0.01) << "work " << e.injection_work;
+  }
+} // namespace
+
+namespace
+{
+  TEST(ChainModel, SaveAndLoadContinueBitForBit)
+  {
+    const auto s = small_scene({"Contact/Friction/Static coefficient=2"});
+    discrete::ChainModel straight(s), first(s);
+    while (first.injected_length() < 30.0)
+      first.step();
+    std::stringstream buffer;
+    first.save(buffer);
+    discrete::ChainModel resumed(s);
+    resumed.load(buffer);
+    while (straight.injected_length() < 45.0)
+      straight.step();
+    while (resumed.injected_length() < 45.0)
+      resumed.step();
+    EXPECT_EQ(straight.n_steps(), resumed.n_steps());
+    EXPECT_EQ(state_hash(straight), state_hash(resumed));
+    EXPECT_NEAR(straight.energies().friction, resumed.energies().friction,
+                1e-12 * straight.energies().friction);
+  }
+
+  TEST(ChainModel, LoadRejectsACheckpointOfAnotherScene)
+  {
+    const auto a = small_scene();
+    const auto b = small_scene({"Cavity/Radius=7"});
+    discrete::ChainModel ma(a), mb(b);
+    std::stringstream buffer;
+    ma.save(buffer);
+    EXPECT_THROW(mb.load(buffer), std::runtime_error);
   }
 } // namespace

@@ -45,3 +45,8 @@ foreach(case "mu5;Contact/Friction/Static coefficient=5"
                    -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
   set_tests_properties(scene.hard_case_${name} PROPERTIES LABELS "regression;stress")
 endforeach()
+
+add_test(NAME scene.interrupt_and_resume
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/interrupt_resume.sh ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm
+                 ${SCENE_OUT}/resume)
+set_tests_properties(scene.interrupt_and_resume PROPERTIES LABELS regression)

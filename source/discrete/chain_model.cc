@@ -1,7 +1,9 @@
 #include <wirefem/discrete/chain_model.h>
 #include <wirefem/discrete/terms.h>
+#include <wirefem/io/binary.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -244,6 +246,56 @@ namespace wirefem::discrete
     ledger.damping += step_energy.damping_work;
     ledger.friction += step_energy.friction_work;
     ledger.friction_stored = step_energy.friction_stored;
+  }
+
+  namespace
+  {
+    constexpr std::uint64_t checkpoint_magic = 0x77697265666d3031ull; // "wirefm01"
+  }
+
+  void ChainModel::save(std::ostream &out) const
+  {
+    io::write_raw(out, checkpoint_magic);
+    io::write_raw(out, nodes.capacity());
+    io::write_raw(out, left_origin);
+    io::write_raw(out, dt);
+    io::write_raw(out, static_cast<std::uint64_t>(terms.size()));
+    io::write_raw(out, nodes.first);
+    io::write_raw(out, nodes.last);
+    io::write_raw(out, t);
+    io::write_raw(out, steps);
+    io::write_raw(out, inlet_force);
+    io::write_raw(out, ledger);
+    io::write_raw(out, step_energy);
+    io::write_vector(out, nodes.x, nodes.first, nodes.last);
+    io::write_vector(out, nodes.v, nodes.first, nodes.last);
+    for (const auto &term : terms)
+      term->save(out);
+  }
+
+  void ChainModel::load(std::istream &in)
+  {
+    if (io::read_raw<std::uint64_t>(in) != checkpoint_magic)
+      throw std::runtime_error("not a wirefem checkpoint of this version");
+    const auto capacity = io::read_raw<int>(in);
+    const auto origin = io::read_raw<int>(in);
+    const auto step = io::read_raw<double>(in);
+    const auto n_terms = io::read_raw<std::uint64_t>(in);
+    if (capacity != nodes.capacity() || origin != left_origin || step != dt || n_terms != terms.size())
+      throw std::runtime_error("the checkpoint was written for a different scene");
+    nodes.first = io::read_raw<int>(in);
+    nodes.last = io::read_raw<int>(in);
+    t = io::read_raw<double>(in);
+    steps = io::read_raw<unsigned long>(in);
+    const auto forces = io::read_raw<std::array<double, 2>>(in);
+    inlet_force[0] = forces[0];
+    inlet_force[1] = forces[1];
+    ledger = io::read_raw<EnergyLedger>(in);
+    step_energy = io::read_raw<StepEnergy>(in);
+    io::read_vector(in, nodes.x);
+    io::read_vector(in, nodes.v);
+    for (auto &term : terms)
+      term->load(in);
   }
 
   bool ChainModel::finite() const

@@ -160,3 +160,29 @@ namespace wirefem::discrete
     history.swap(trial_history);
   }
 } // namespace wirefem::discrete
+
+#include <wirefem/io/binary.h>
+
+namespace wirefem::discrete
+{
+  void WallContactTerm::save(std::ostream &out) const
+  {
+    io::write_map(out, history);
+  }
+
+  void WallContactTerm::load(std::istream &in)
+  {
+    io::read_map(in, history);
+  }
+
+  void SelfContactTerm::save(std::ostream &out) const
+  {
+    io::write_map(out, history);
+  }
+
+  void SelfContactTerm::load(std::istream &in)
+  {
+    io::read_map(in, history);
+    broad.invalidate();
+  }
+} // namespace wirefem::discrete

@@ -114,3 +114,19 @@ namespace wirefem::discrete
       }
   }
 } // namespace wirefem::discrete
+
+#include <wirefem/io/binary.h>
+
+namespace wirefem::discrete
+{
+  void BendingTerm::save(std::ostream &out) const
+  {
+    io::write_vector(out, state, 0, state.size());
+  }
+
+  void BendingTerm::load(std::istream &in)
+  {
+    io::read_vector(in, state);
+    trial_state = state;
+  }
+} // namespace wirefem::discrete

@@ -218,6 +218,9 @@ namespace wirefem::scene
       d.declare("Output/Progress", "auto", Patterns::Selection("auto|on|off"),
                 "One-line progress display: auto = on a terminal, periodic log lines otherwise.");
 
+      d.declare("Output/Checkpoint interval", "300", any_double,
+                "Wall-clock seconds between checkpoints (checkpoint.bin, for --resume); 0: only when "
+                "interrupted (SIGINT/SIGTERM).");
       d.declare("Debug/Keep neutral effects", "false", boolean,
                 "Build friction and plasticity even when their parameters are neutral "
                 "(mu = 0, kappa_theta*lambda_0 >= pi); for checking that they change nothing.");
@@ -293,6 +296,7 @@ namespace wirefem::scene
       o.vtu_interval = d.get_double("Output/VTU interval");
       o.picture_size = std::stoi(d.get("Output/Picture size"));
       o.progress = d.get("Output/Progress");
+      o.checkpoint_interval = d.get_double("Output/Checkpoint interval");
       s.keep_neutral_effects = d.get_bool("Debug/Keep neutral effects");
       return s;
     }
@@ -348,6 +352,7 @@ namespace wirefem::scene
       check(ds.translational_damping >= 0, w, "Discrete/Translational damping", "must not be negative");
       check(ds.rotational_damping >= 0, w, "Discrete/Rotational damping", "must not be negative");
       check(s.output.interval > 0, w, "Output/Interval", "must be positive");
+      check(s.output.checkpoint_interval >= 0, w, "Output/Checkpoint interval", "must not be negative");
       check(s.output.vtu_interval >= 0, w, "Output/VTU interval", "must not be negative");
     }
 

@@ -1,14 +1,18 @@
 #include <wirefem/analysis/observables.h>
 #include <wirefem/discrete/chain_model.h>
+#include <wirefem/io/binary.h>
 #include <wirefem/io/picture.h>
 #include <wirefem/io/progress.h>
 #include <wirefem/io/series_writer.h>
 #include <wirefem/io/vtu_writer.h>
+#include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/simulation.h>
 
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <csignal>
+#include <cstdint>
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
@@ -42,6 +46,107 @@ namespace wirefem::simulation
                                               "symmetry",
                                               "curvature_ratio"};
 
+    // Set by SIGINT/SIGTERM; the loop stops at the end of the current step.
+    volatile std::sig_atomic_t interrupt_requested = 0;
+    extern "C" void request_interrupt(int)
+    {
+      interrupt_requested = 1;
+    }
+
+    constexpr std::uint64_t checkpoint_magic = 0x77666d72756e3031ull; // "wfmrun01"
+
+    /// What the run loop carries from step to step besides the model.
+    struct LoopState
+    {
+      double next_row = 0.0;
+      double next_vtu = 0.0;
+      int vtu_count = 0;
+      // Running mean of the inlet force over the jamming window, in injected
+      // length: a step that injects dL moves the mean by dL/window.
+      double force_mean = 0.0;
+      double previous_length = 0.0;
+      double max_penetration = 0.0;
+      double wall_time = 0.0; // spent before this process (resumed runs)
+    };
+
+    // Everything but the output settings: a checkpoint only resumes the scene
+    // that wrote it.
+    std::string fingerprint(const scene::Scene &s)
+    {
+      const auto &w = s.wire;
+      const auto &c = s.contact;
+      const auto &f = c.friction;
+      const auto &i = s.injection;
+      const auto &d = s.discrete;
+      return fmt::format(
+          "{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}",
+          int(s.model), s.cavity.radius, w.axial_stiffness, w.bending_stiffness, w.mass_per_length,
+          w.plasticity.enabled, w.plasticity.yield_curvature, w.plasticity.hardening_slope,
+          int(w.plasticity.hardening), c.wall_contact, c.self_contact, c.normal_stiffness, c.skin,
+          c.exclusion_length, f.static_coefficient, f.dynamic_coefficient, f.wall_static_coefficient,
+          f.wall_dynamic_coefficient, f.threshold_velocity, f.tangential_stiffness_ratio, i.speed,
+          i.ramp_time, i.seed, i.perturbation, d.segment_length, d.time_step, d.time_step_factor,
+          d.translational_damping, d.rotational_damping, s.keep_neutral_effects);
+    }
+
+    void write_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, const LoopState &loop,
+                          const io::PvdCollection &pvd, const discrete::ChainModel &model)
+    {
+      // Written next to the final name and renamed, so an interruption while
+      // writing leaves the previous checkpoint intact.
+      const auto tmp = file.string() + ".tmp";
+      {
+        std::ofstream out(tmp, std::ios::binary);
+        io::write_raw(out, checkpoint_magic);
+        const auto fp = fingerprint(scene);
+        io::write_raw(out, static_cast<std::uint64_t>(fp.size()));
+        out.write(fp.data(), static_cast<std::streamsize>(fp.size()));
+        io::write_raw(out, loop);
+        io::write_raw(out, static_cast<std::uint64_t>(pvd.entries().size()));
+        for (const auto &[time, name] : pvd.entries())
+          {
+            io::write_raw(out, time);
+            io::write_raw(out, static_cast<std::uint64_t>(name.size()));
+            out.write(name.data(), static_cast<std::streamsize>(name.size()));
+          }
+        model.save(out);
+        if (!out)
+          throw std::runtime_error("cannot write " + tmp);
+      }
+      std::filesystem::rename(tmp, file);
+    }
+
+    void read_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, LoopState &loop,
+                         io::PvdCollection &pvd, discrete::ChainModel &model)
+    {
+      std::ifstream in(file, std::ios::binary);
+      if (!in)
+        throw scene::InputError(file.string() + ": no checkpoint to resume from");
+      try
+        {
+          if (io::read_raw<std::uint64_t>(in) != checkpoint_magic)
+            throw std::runtime_error("not a wirefem checkpoint");
+          std::string fp(io::read_raw<std::uint64_t>(in), ' ');
+          in.read(fp.data(), static_cast<std::streamsize>(fp.size()));
+          if (fp != fingerprint(scene))
+            throw std::runtime_error("it was written for different scene parameters");
+          loop = io::read_raw<LoopState>(in);
+          const auto n = io::read_raw<std::uint64_t>(in);
+          for (std::uint64_t k = 0; k < n; ++k)
+            {
+              const auto time = io::read_raw<double>(in);
+              std::string name(io::read_raw<std::uint64_t>(in), ' ');
+              in.read(name.data(), static_cast<std::streamsize>(name.size()));
+              pvd.add(time, name);
+            }
+          model.load(in);
+        }
+      catch (const std::runtime_error &e)
+        {
+          throw scene::InputError(file.string() + ": cannot resume: " + e.what());
+        }
+    }
+
     std::string join(const std::vector<std::string> &v)
     {
       std::string s;
@@ -51,7 +156,7 @@ namespace wirefem::simulation
     }
   } // namespace
 
-  RunResult run(const scene::Scene &scene)
+  RunResult run(const scene::Scene &scene, const RunOptions &options)
   {
     if (scene.model != scene::ModelType::discrete)
       throw std::runtime_error("Model = fem is not available yet in this build");
@@ -63,24 +168,43 @@ namespace wirefem::simulation
 
     namespace fs = std::filesystem;
     const fs::path dir(scene.output.directory);
+    const fs::path checkpoint_file = dir / "checkpoint.bin";
+    io::PvdCollection pvd((dir / "wire.pvd").string());
+    LoopState loop;
+    loop.next_row = loop.next_vtu = loop.previous_length = model.injected_length();
+    if (options.resume)
+      read_checkpoint(checkpoint_file, scene, loop, pvd, model);
     fs::create_directories(dir);
     std::cout << fmt::format("wirefem: scene {} ({} model), f = r/d = {}, lambda_0 = {}, dt = {:.4g}\n",
                              scene.name, "discrete", r, scene.discrete.segment_length, model.time_step())
               << "active effects: " << join(model.active_effects()) << '\n'
               << "output: " << dir.string() << std::endl;
 
-    io::SeriesWriter series((dir / "series.csv").string(), columns);
-    io::PvdCollection pvd((dir / "wire.pvd").string());
+    if (options.resume)
+      std::cout << fmt::format("resuming at t = {:.6g}, L = {:.6g}, step {}\n", model.time(),
+                               model.injected_length(), model.n_steps());
+    io::SeriesWriter series((dir / "series.csv").string(), columns, options.resume ? model.time() : -1.0);
     io::Progress progress(scene.output.progress);
 
     RunResult result;
-    double next_row = model.injected_length();
-    double next_vtu = model.injected_length();
-    int vtu_count = 0;
-    // Running mean of the inlet force over the jamming window, in injected
-    // length: a step that injects dL moves the mean by dL/window.
-    double force_mean = 0.0;
-    double previous_length = model.injected_length();
+    auto &next_row = loop.next_row;
+    auto &next_vtu = loop.next_vtu;
+    auto &vtu_count = loop.vtu_count;
+    auto &force_mean = loop.force_mean;
+    auto &previous_length = loop.previous_length;
+    result.max_penetration = loop.max_penetration;
+    interrupt_requested = 0;
+    const auto old_int = std::signal(SIGINT, request_interrupt);
+    const auto old_term = std::signal(SIGTERM, request_interrupt);
+    auto last_checkpoint = std::chrono::steady_clock::now();
+    auto save_checkpoint = [&]() {
+      loop.max_penetration = result.max_penetration;
+      const double now = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      LoopState saved = loop;
+      saved.wall_time += now;
+      write_checkpoint(checkpoint_file, scene, saved, pvd, model);
+      last_checkpoint = std::chrono::steady_clock::now();
+    };
 
     auto write_vtu = [&](const analysis::WireState &w) {
       const std::string name = fmt::format("wire_{:05d}.vtu", vtu_count++);
@@ -88,34 +212,35 @@ namespace wirefem::simulation
       pvd.add(w.time, name);
       pvd.write();
     };
-    auto observe = [&](bool force_vtu) {
+    auto observe = [&](bool force_vtu, bool write_row) {
       const auto w = model.wire_state();
       const auto morph = analysis::classify(w);
       const int loops = analysis::count_loops(w);
       const auto &e = model.energies();
       const auto &s = model.last_step();
       const double phi = analysis::packing_density(w.injected_length, r);
-      series.write_row({model.time(),
-                        w.injected_length,
-                        phi,
-                        0.5 * (model.force_left() + model.force_right()),
-                        model.force_left(),
-                        model.force_right(),
-                        double(loops),
-                        double(s.n_self_contacts),
-                        double(s.n_wall_contacts),
-                        e.bending,
-                        e.stretching,
-                        e.kinetic,
-                        e.contact,
-                        e.plastic,
-                        e.friction,
-                        e.damping,
-                        e.injection_work,
-                        e.balance_error(),
-                        s.max_penetration,
-                        morph.symmetry,
-                        morph.curvature_ratio});
+      if (write_row)
+        series.write_row({model.time(),
+                          w.injected_length,
+                          phi,
+                          0.5 * (model.force_left() + model.force_right()),
+                          model.force_left(),
+                          model.force_right(),
+                          double(loops),
+                          double(s.n_self_contacts),
+                          double(s.n_wall_contacts),
+                          e.bending,
+                          e.stretching,
+                          e.kinetic,
+                          e.contact,
+                          e.plastic,
+                          e.friction,
+                          e.damping,
+                          e.injection_work,
+                          e.balance_error(),
+                          s.max_penetration,
+                          morph.symmetry,
+                          morph.curvature_ratio});
       if (force_vtu || (scene.output.vtu_interval > 0 && w.injected_length >= next_vtu))
         {
           write_vtu(w);
@@ -149,7 +274,7 @@ namespace wirefem::simulation
         const double phi = analysis::packing_density(L, r);
         if (L >= next_row)
           {
-            observe(false);
+            observe(false, true);
             next_row += scene.output.interval;
           }
         if (model.n_steps() % 256 == 0 && !model.finite())
@@ -180,6 +305,17 @@ namespace wirefem::simulation
             result.stop_reason = fmt::format("reached Injection/Maximum packing density {:.4g}", phi_max);
             break;
           }
+        if (interrupt_requested)
+          {
+            result.interrupted = true;
+            save_checkpoint();
+            result.stop_reason = "interrupted; continue with --resume";
+            break;
+          }
+        if (scene.output.checkpoint_interval > 0 && model.n_steps() % 1024 == 0 &&
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint).count() >=
+                scene.output.checkpoint_interval)
+          save_checkpoint();
         if (model.time() >= inj.maximum_time)
           {
             result.stop_reason = fmt::format("reached Injection/Maximum time {:.4g}", inj.maximum_time);
@@ -199,6 +335,10 @@ namespace wirefem::simulation
           }
       }
     progress.finish();
+    std::signal(SIGINT, old_int);
+    std::signal(SIGTERM, old_term);
+    if (!result.interrupted)
+      fs::remove(checkpoint_file);
 
     const bool finite = model.finite();
     if (!finite && !result.failed)
@@ -206,11 +346,14 @@ namespace wirefem::simulation
         result.failed = true;
         result.stop_reason = "numerical blow-up: non-finite positions";
       }
-    const auto w = finite ? observe(true) : model.wire_state();
+    // An interrupted run leaves series.csv as the checkpoint has it, so that
+    // the resumed run continues it row for row.
+    const auto w = finite ? observe(true, !result.interrupted) : model.wire_state();
     result.phi_final = analysis::packing_density(model.injected_length(), r);
     result.steps = model.n_steps();
     result.energy_balance_error = model.energies().balance_error();
-    result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    result.wall_time_s =
+        loop.wall_time + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     if (finite)
       {
         io::PictureOptions opt;
@@ -228,6 +371,7 @@ namespace wirefem::simulation
     j["injected_length"] = model.injected_length();
     j["jammed"] = result.jammed;
     j["failed"] = result.failed;
+    j["interrupted"] = result.interrupted;
     j["stop_reason"] = result.stop_reason;
     j["loops"] = result.loops;
     j["morphology"] = result.morphology.empty() ? "plastic" : result.morphology;

@@ -10,6 +10,7 @@
 
 #include <wirefem/geometry/vec2.h>
 
+#include <iosfwd>
 #include <vector>
 
 namespace wirefem::discrete
@@ -66,5 +67,8 @@ namespace wirefem::discrete
     virtual const char *name() const = 0;
     virtual void add_forces(Chain &chain, double dt, StepEnergy &energy) = 0;
     virtual void commit() {}
+    /// Writes / reads the committed history (checkpoints); binary, same build.
+    virtual void save(std::ostream &) const {}
+    virtual void load(std::istream &) {}
   };
 } // namespace wirefem::discrete

@@ -9,6 +9,7 @@
 #include <wirefem/injection/channels.h>
 #include <wirefem/scene/parameters.h>
 
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <vector>
@@ -69,6 +70,12 @@ namespace wirefem::discrete
 
     /// The wire from the left inlet to the right inlet, with per-point fields.
     analysis::WireState wire_state() const;
+
+    /// Writes the whole dynamic state (chain, histories, ledger) so that a
+    /// model built from the same scene continues bit for bit after load().
+    void save(std::ostream &out) const;
+    /// Throws std::runtime_error if the data do not fit this model.
+    void load(std::istream &in);
 
   private:
     void place_initial_wire(const scene::Scene &scene);

@@ -40,6 +40,8 @@ namespace wirefem::discrete
     const char *name() const override { return "bending"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
     void commit() override;
+    void save(std::ostream &out) const override;
+    void load(std::istream &in) override;
 
     /// Turning angle at node k (needs k-1, k+1 active).
     static double turning_angle(const Chain &chain, int k);
@@ -112,6 +114,8 @@ namespace wirefem::discrete
     const char *name() const override { return "wall contact"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
     void commit() override;
+    void save(std::ostream &out) const override;
+    void load(std::istream &in) override;
 
   private:
     double radius;
@@ -131,6 +135,8 @@ namespace wirefem::discrete
     const char *name() const override { return "self contact"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
     void commit() override;
+    void save(std::ostream &out) const override;
+    void load(std::istream &in) override;
 
     struct ActivePair
     {

@@ -10,7 +10,10 @@ namespace wirefem::io
   class SeriesWriter
   {
   public:
-    SeriesWriter(const std::string &filename, const std::vector<std::string> &columns);
+    /// resume_time >= 0: keep the rows of an existing file up to that time
+    /// (a resumed run) and append; otherwise start a new file.
+    SeriesWriter(const std::string &filename, const std::vector<std::string> &columns,
+                 double resume_time = -1.0);
     /// values in the order of the columns; flushed so an interrupted run keeps its rows.
     void write_row(const std::vector<double> &values);
 

@@ -87,11 +87,12 @@ namespace wirefem::scene
 
   struct OutputParameters
   {
-    std::string directory;         ///< empty: output/<scene name>
-    double interval = 1.0;         ///< injected length between rows of series.csv (d)
-    double vtu_interval = 20.0;    ///< injected length between VTU files (d); 0: none
-    int picture_size = 1000;       ///< pixels
-    std::string progress = "auto"; ///< auto | on | off
+    std::string directory;              ///< empty: output/<scene name>
+    double interval = 1.0;              ///< injected length between rows of series.csv (d)
+    double vtu_interval = 20.0;         ///< injected length between VTU files (d); 0: none
+    int picture_size = 1000;            ///< pixels
+    std::string progress = "auto";      ///< auto | on | off
+    double checkpoint_interval = 300.0; ///< wall seconds between checkpoints; 0: only on interruption
   };
 
   struct Scene

@@ -12,7 +12,8 @@ namespace wirefem::simulation
   struct RunResult
   {
     bool jammed = false;
-    bool failed = false; ///< stopped by a numerical limit (NaN, blow-up, storage)
+    bool failed = false;      ///< stopped by a numerical limit (NaN, blow-up, storage)
+    bool interrupted = false; ///< SIGINT/SIGTERM: a checkpoint was written
     std::string stop_reason;
     double phi_final = 0.0;
     unsigned long steps = 0;
@@ -24,7 +25,15 @@ namespace wirefem::simulation
     double symmetry = 0.0;
   };
 
+  struct RunOptions
+  {
+    /// Continue from <output directory>/checkpoint.bin (written every
+    /// Output/Checkpoint interval seconds and on SIGINT/SIGTERM).
+    bool resume = false;
+  };
+
   /// Runs the scene; creates the output directory. Progress and the active
-  /// effects go to stderr/stdout.
-  RunResult run(const scene::Scene &scene);
+  /// effects go to stderr/stdout. Throws scene::InputError if a checkpoint to
+  /// resume from is missing or belongs to other parameters.
+  RunResult run(const scene::Scene &scene, const RunOptions &options = {});
 } // namespace wirefem::simulation
