@@ -6,6 +6,44 @@ namespace wirefem::discrete
 {
   using geometry::Vec2;
 
+  namespace
+  {
+    /// The turning angle zeta at node k and its gradients with respect to
+    /// x_{k-1}, x_k, x_{k+1}: zeta = angle(b) - angle(a) with a, b the
+    /// segments before and after, and d angle(u)/du = perp(u)/|u|^2.
+    struct TurningAngle
+    {
+      Vec2 a, b;
+      double zeta;
+
+      TurningAngle(const Chain &c, const int k)
+        : a(c.x[k] - c.x[k - 1])
+        , b(c.x[k + 1] - c.x[k])
+        , zeta(std::atan2(cross(a, b), dot(a, b)))
+      {
+      }
+
+      Vec2 g_prev() const { return (1.0 / norm_square(a)) * perp(a); }
+      Vec2 g_next() const { return (1.0 / norm_square(b)) * perp(b); }
+
+      /// d zeta/dt from the velocities of the three nodes.
+      double rate(const Chain &c, const int k) const
+      {
+        const Vec2 gp = g_prev(), gn = g_next();
+        return dot(gp, c.v[k - 1] - c.v[k]) + dot(gn, c.v[k + 1] - c.v[k]);
+      }
+
+      /// Adds the forces -moment * d zeta/dx.
+      void apply(Chain &c, const int k, const double moment) const
+      {
+        const Vec2 gp = g_prev(), gn = g_next();
+        c.f[k - 1] -= moment * gp;
+        c.f[k] += moment * (gp + gn);
+        c.f[k + 1] -= moment * gn;
+      }
+    };
+  } // namespace
+
   void StretchingTerm::add_forces(Chain &c, double, StepEnergy &e)
   {
     for (int k = c.first; k < c.last - 1; ++k)
@@ -34,9 +72,7 @@ namespace wirefem::discrete
 
   double BendingTerm::turning_angle(const Chain &c, const int k)
   {
-    const Vec2 a = c.x[k] - c.x[k - 1];
-    const Vec2 b = c.x[k + 1] - c.x[k];
-    return std::atan2(cross(a, b), dot(a, b));
+    return TurningAngle(c, k).zeta;
   }
 
   void BendingTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
@@ -44,13 +80,8 @@ namespace wirefem::discrete
     const bool plastic = !state.empty();
     for (int k = c.first + 1; k < c.last - 1; ++k)
       {
-        const Vec2 a = c.x[k] - c.x[k - 1];
-        const Vec2 b = c.x[k + 1] - c.x[k];
-        const double zeta = std::atan2(cross(a, b), dot(a, b));
-        // zeta = angle(b) - angle(a); d angle(u)/du = perp(u)/|u|^2.
-        const Vec2 ga = (1.0 / norm_square(a)) * perp(a);
-        const Vec2 gb = (1.0 / norm_square(b)) * perp(b);
-        const Vec2 g_prev = ga, g_next = gb, g_mid = -(ga + gb);
+        const TurningAngle angle(c, k);
+        const double zeta = angle.zeta;
         double moment;
         if (plastic)
           {
@@ -67,13 +98,11 @@ namespace wirefem::discrete
           }
         if (damping > 0.0)
           {
-            const double rate = dot(g_prev, c.v[k - 1]) + dot(g_mid, c.v[k]) + dot(g_next, c.v[k + 1]);
+            const double rate = angle.rate(c, k);
             moment += damping * rate;
             e.damping_work += damping * rate * rate * dt;
           }
-        c.f[k - 1] -= moment * g_prev;
-        c.f[k] -= moment * g_mid;
-        c.f[k + 1] -= moment * g_next;
+        angle.apply(c, k, moment);
       }
   }
 
@@ -88,18 +117,11 @@ namespace wirefem::discrete
   {
     for (int k = c.first + 1; k < c.last - 1; ++k)
       {
-        const Vec2 a = c.x[k] - c.x[k - 1];
-        const Vec2 b = c.x[k + 1] - c.x[k];
-        const double zeta = std::atan2(cross(a, b), dot(a, b));
-        const double excess = std::abs(zeta) - zeta_max;
+        const TurningAngle angle(c, k);
+        const double excess = std::abs(angle.zeta) - zeta_max;
         if (excess <= 0.0)
           continue;
-        const double moment = (zeta > 0.0 ? 1.0 : -1.0) * stiffness * excess;
-        const Vec2 ga = (1.0 / norm_square(a)) * perp(a);
-        const Vec2 gb = (1.0 / norm_square(b)) * perp(b);
-        c.f[k - 1] -= moment * ga;
-        c.f[k] += moment * (ga + gb);
-        c.f[k + 1] -= moment * gb;
+        angle.apply(c, k, (angle.zeta > 0.0 ? 1.0 : -1.0) * stiffness * excess);
         e.contact += 0.5 * stiffness * excess * excess;
       }
   }
