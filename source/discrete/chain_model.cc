@@ -37,13 +37,14 @@ namespace wirefem::discrete
         static_cast<int>(std::ceil(std::max(0.0, max_length - 2.0 * radius) / (2.0 * lambda0))) + 8;
     nodes = Chain(n0 + 1 + 2 * 2 + 2 * extra);
     nodes.lambda0 = lambda0;
+    window[0].length = window[1].length = lambda0;
     nodes.node_mass = mass;
     nodes.n_prescribed = 2;
     place_initial_wire(scene);
 
     const bool keep = scene.keep_neutral_effects;
     effects.push_back("stretching");
-    terms.push_back(std::make_unique<StretchingTerm>(k1));
+    terms.push_back(std::make_unique<StretchingTerm>(k1, scene.discrete.axial_damping));
     double omega2 = 4.0 * k1 / mass;
     if (scene.wire.bending_stiffness > 0.0)
       {
@@ -123,6 +124,19 @@ namespace wirefem::discrete
   }
 
   ChainModel::~ChainModel() = default;
+
+  void ChainModel::ForceWindow::add(const double du, const double dw)
+  {
+    steps.emplace_back(du, dw);
+    injected += du;
+    work += dw;
+    while (steps.size() > 1 && injected - steps.front().first >= length)
+      {
+        injected -= steps.front().first;
+        work -= steps.front().second;
+        steps.pop_front();
+      }
+  }
 
   void ChainModel::place_initial_wire(const scene::Scene &scene)
   {
@@ -205,8 +219,10 @@ namespace wirefem::discrete
     inlet_force[0] = -dot(c.f[c.first] + c.f[c.first + 1], al);
     inlet_force[1] = -dot(c.f[c.last - 1] + c.f[c.last - 2], ar);
     // Work of the channels over the step: force times the exact injected length.
-    ledger.injection_work += (inlet_force[0] + inlet_force[1]) *
-                             (channels.injected_per_channel(t + dt) - channels.injected_per_channel(t));
+    const double du = channels.injected_per_channel(t + dt) - channels.injected_per_channel(t);
+    ledger.injection_work += (inlet_force[0] + inlet_force[1]) * du;
+    window[0].add(du, inlet_force[0] * du);
+    window[1].add(du, inlet_force[1] * du);
 
     const double inv_m = 1.0 / c.node_mass;
     double kinetic = 0.0;
@@ -269,6 +285,13 @@ namespace wirefem::discrete
     io::write_raw(out, step_energy);
     io::write_vector(out, nodes.x, nodes.first, nodes.last);
     io::write_vector(out, nodes.v, nodes.first, nodes.last);
+    for (const auto &w : window)
+      {
+        const std::vector<std::pair<double, double>> steps(w.steps.begin(), w.steps.end());
+        io::write_vector(out, steps, 0, steps.size());
+        io::write_raw(out, w.injected);
+        io::write_raw(out, w.work);
+      }
     for (const auto &term : terms)
       term->save(out);
   }
@@ -294,6 +317,14 @@ namespace wirefem::discrete
     step_energy = io::read_raw<StepEnergy>(in);
     io::read_vector(in, nodes.x);
     io::read_vector(in, nodes.v);
+    for (auto &w : window)
+      {
+        std::vector<std::pair<double, double>> steps(io::peek_vector_size(in));
+        io::read_vector(in, steps);
+        w.steps.assign(steps.begin(), steps.end());
+        w.injected = io::read_raw<double>(in);
+        w.work = io::read_raw<double>(in);
+      }
     for (auto &term : terms)
       term->load(in);
   }

@@ -44,14 +44,21 @@ namespace wirefem::discrete
     };
   } // namespace
 
-  void StretchingTerm::add_forces(Chain &c, double, StepEnergy &e)
+  void StretchingTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
     for (int k = c.first; k < c.last - 1; ++k)
       {
         const Vec2 d = c.x[k + 1] - c.x[k];
         const double len = norm(d);
         const double stretch = len - c.lambda0;
-        const Vec2 fk = (k1 * stretch / len) * d; // pulls k towards k+1 when stretched
+        double tension = k1 * stretch;
+        if (damping > 0.0)
+          {
+            const double rate = dot(c.v[k + 1] - c.v[k], d) / len;
+            tension += damping * rate;
+            e.damping_work += damping * rate * rate * dt;
+          }
+        const Vec2 fk = (tension / len) * d; // pulls k towards k+1 when stretched
         c.f[k] += fk;
         c.f[k + 1] -= fk;
         e.stretching += 0.5 * k1 * stretch * stretch;

@@ -86,7 +86,7 @@ namespace wirefem::simulation
           c.exclusion_length, f.static_coefficient, f.dynamic_coefficient, f.wall_static_coefficient,
           f.wall_dynamic_coefficient, f.threshold_velocity, f.tangential_stiffness_ratio, i.speed,
           i.ramp_time, i.seed, i.perturbation, d.segment_length, d.time_step, d.time_step_factor,
-          d.translational_damping, d.rotational_damping, s.keep_neutral_effects);
+          d.translational_damping, d.rotational_damping, s.keep_neutral_effects, d.axial_damping);
     }
 
     void write_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, const LoopState &loop,

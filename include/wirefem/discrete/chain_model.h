@@ -9,7 +9,9 @@
 #include <wirefem/injection/channels.h>
 #include <wirefem/scene/parameters.h>
 
+#include <deque>
 #include <iosfwd>
+#include <utility>
 #include <memory>
 #include <string>
 #include <vector>
@@ -57,9 +59,14 @@ namespace wirefem::discrete
     double time_step() const { return dt; }
     unsigned long n_steps() const { return steps; }
     double injected_length() const { return channels.injected_length(t); }
-    /// Axial force with which each channel pushes (positive: wire resists).
-    double force_left() const { return inlet_force[0]; }
-    double force_right() const { return inlet_force[1]; }
+    /// Axial force with which each channel pushes (positive: wire resists),
+    /// as the channel's work per injected length over the last lambda_0
+    /// injected: a node passes the inlet once per lambda_0, so this window
+    /// removes the step of the discrete moving boundary exactly.
+    double force_left() const { return window[0].mean(); }
+    double force_right() const { return window[1].mean(); }
+    /// The instantaneous axial reaction of each channel's nodes.
+    double instantaneous_force(int side) const { return inlet_force[side]; }
     const EnergyLedger &energies() const { return ledger; }
     const StepEnergy &last_step() const { return step_energy; }
     /// Names of the effects this run simulates.
@@ -93,6 +100,17 @@ namespace wirefem::discrete
     double t = 0.0, dt = 0.0;
     unsigned long steps = 0;
     double inlet_force[2] = {0.0, 0.0};
+
+    /// Work of one channel over the last `length` of injection.
+    struct ForceWindow
+    {
+      double length = 1.0;
+      std::deque<std::pair<double, double>> steps; // (injected, work)
+      double injected = 0.0, work = 0.0;
+      void add(double du, double dw);
+      double mean() const { return injected > 0.0 ? work / injected : 0.0; }
+    };
+    ForceWindow window[2];
     EnergyLedger ledger;
     StepEnergy step_energy;
   };

@@ -14,12 +14,15 @@
 
 namespace wirefem::discrete
 {
-  /// Tensile springs F = -k1 (lambda_0 - lambda) on every active segment.
+  /// Tensile springs F = -k1 (lambda_0 - lambda) on every active segment,
+  /// with an optional dashpot c_a d(lambda)/dt in parallel (internal: it
+  /// damps axial waves and leaves rigid sliding of the wire alone).
   class StretchingTerm : public Term
   {
   public:
-    explicit StretchingTerm(double k1)
+    explicit StretchingTerm(double k1, double axial_damping = 0.0)
       : k1(k1)
+      , damping(axial_damping)
     {
     }
     const char *name() const override { return "stretching"; }
@@ -27,6 +30,7 @@ namespace wirefem::discrete
 
   private:
     double k1;
+    double damping;
   };
 
   /// Rotational springs M = -k2 (zeta - zeta_p) at every interior active

@@ -49,6 +49,16 @@ namespace wirefem::io
       throw std::runtime_error("checkpoint is truncated");
   }
 
+  /// Size (end - begin) of the vector written next, without consuming it.
+  inline std::size_t peek_vector_size(std::istream &in)
+  {
+    const auto pos = in.tellg();
+    read_raw<std::uint64_t>(in); // begin: vectors read this way are written from 0
+    const auto end = read_raw<std::uint64_t>(in);
+    in.seekg(pos);
+    return end;
+  }
+
   template <typename Map>
   void write_map(std::ostream &out, const Map &m)
   {

@@ -81,8 +81,9 @@ namespace wirefem::scene
     double segment_length = 1.0; ///< lambda_0 (d)
     double time_step = 0.0;      ///< 0: automatic, time_step_factor * stability limit
     double time_step_factor = 0.25;
-    double translational_damping = 0.05; ///< gamma: damping force -gamma m v (1 / time)
-    double rotational_damping = 0.5;     ///< c: damping moment -c dzeta/dt (force d time)
+    double translational_damping = 0.0; ///< gamma: damping force -gamma m v (1 / time)
+    double rotational_damping = 0.5;    ///< c: damping moment -c dzeta/dt (force d time)
+    double axial_damping = 3.0;         ///< c_a: dashpot tension c_a dlambda/dt (force time / d)
   };
 
   struct OutputParameters
