@@ -249,6 +249,7 @@ namespace wirefem::simulation
       result.loops = loops;
       result.morphology = morph.phase;
       result.symmetry = morph.symmetry;
+      result.shape = morph;
       return w;
     };
 
@@ -376,6 +377,9 @@ namespace wirefem::simulation
     j["loops"] = result.loops;
     j["morphology"] = result.morphology.empty() ? "plastic" : result.morphology;
     j["symmetry"] = result.symmetry;
+    j["curvature_ratio"] = result.shape.curvature_ratio;
+    j["winding_left"] = result.shape.winding_left;
+    j["winding_right"] = result.shape.winding_right;
     j["steps"] = result.steps;
     j["time"] = model.time();
     j["time_step"] = model.time_step();

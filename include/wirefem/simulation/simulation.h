@@ -3,6 +3,7 @@
 // SPEC section 8 into the scene's output directory.
 #pragma once
 
+#include <wirefem/analysis/observables.h>
 #include <wirefem/scene/parameters.h>
 
 #include <string>
@@ -23,6 +24,7 @@ namespace wirefem::simulation
     int loops = 0;
     std::string morphology;
     double symmetry = 0.0;
+    analysis::Morphology shape; ///< the classifier's numbers at the end
   };
 
   struct RunOptions
