@@ -7,6 +7,7 @@ set -u
 exe=${WIREFEM:-./build/wirefem}
 scene=${1:-prm/quick.prm}; shift || true
 out=${OUT:-output/hard-cases}
+mkdir -p "$out"
 cases=(
   "default|"
   "mu_st=5|Contact/Friction/Static coefficient=5"
@@ -19,7 +20,7 @@ cases=(
 printf "| case | exit | stop | phi | balance error | max overlap (d) | steps | wall (s) |\n|---|---|---|---|---|---|---|---|\n"
 for c in "${cases[@]}"; do
   name=${c%%|*}; setting=${c#*|}
-  dir="$out/$(echo "$name" | tr -c 'a-zA-Z0-9_' '_')"
+  dir="$out/$(printf %s "$name" | tr -c 'a-zA-Z0-9_' '_')"
   extra=(); [ -n "$setting" ] && extra=(--set "$setting")
   "$exe" "$scene" "$@" "${extra[@]}" --set Output/Directory="$dir" --set Output/Progress=off \
     --set "Output/VTU interval=0" > "$dir.log" 2>&1
