@@ -5,11 +5,14 @@
 #include <wirefem/simulation/simulation.h>
 
 #include <CLI/CLI.hpp>
+#include <deal.II/base/mpi.h>
 
 #include <iostream>
 
 int main(int argc, char **argv)
 {
+  // Trilinos (the FEM's matrices and direct solver) needs MPI; one thread.
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   CLI::App app{"wirefem: a wire pushed from two channels into a circular cavity until it jams.\n"
                "Example: wirefem prm/classic.prm --set \"Contact/Friction/Static coefficient=0.2\""};
   std::string prm_file;

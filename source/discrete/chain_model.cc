@@ -125,19 +125,6 @@ namespace wirefem::discrete
 
   ChainModel::~ChainModel() = default;
 
-  void ChainModel::ForceWindow::add(const double du, const double dw)
-  {
-    steps.emplace_back(du, dw);
-    injected += du;
-    work += dw;
-    while (steps.size() > 1 && injected - steps.front().first >= length)
-      {
-        injected -= steps.front().first;
-        work -= steps.front().second;
-        steps.pop_front();
-      }
-  }
-
   void ChainModel::place_initial_wire(const scene::Scene &scene)
   {
     const int n0 = static_cast<int>(std::lround(2.0 * radius / lambda0));
@@ -151,28 +138,12 @@ namespace wirefem::discrete
     for (int k = right_origin; k < nodes.last; ++k)
       nodes.x[k] = channels.position(Side::right, (right_origin - k) * lambda0, 0.0);
 
-    // The perturbation is the first buckling mode of a clamped-clamped rod,
-    // (1 - cos(2 pi xi / 2r)) / 2, up or down as the seed says, plus random
-    // clamped modes 2..6 at a tenth of its amplitude that break the mirror
-    // symmetry slightly. Seeding mostly the first mode lets the wire buckle
-    // into one arch, as in the paper, instead of the faster-growing short
-    // modes of a rod loaded quickly. The raw 32-bit draws of mt19937 are the
-    // same on every platform, so a seed gives the same wire everywhere.
-    std::mt19937 gen(scene.injection.seed);
-    auto uniform = [&gen]() { return 2.0 * (gen() / 4294967295.0) - 1.0; };
-    const double sign = (gen() & 1u) ? 1.0 : -1.0;
-    double amp[6] = {sign, 0, 0, 0, 0, 0};
-    for (int m = 1; m < 6; ++m)
-      amp[m] = 0.1 * uniform();
-    const double span = 2.0 * radius;
+    // The seeded perturbation (injection/inlet.h).
+    const injection::InitialShape shape(scene.injection.seed, scene.injection.perturbation, 2.0 * radius);
     for (int k = left_origin + 1; k < right_origin; ++k)
       {
         const double xi = (k - left_origin) * lambda0;
-        double y = 0.0;
-        for (int m = 0; m < 6; ++m)
-          y += amp[m] * 0.5 * (1.0 - std::cos(2.0 * M_PI * (m + 1) * xi / span)) *
-               (m % 2 ? std::cos(M_PI * xi / span) : 1.0); // odd m: antisymmetric
-        nodes.x[k] = {xi - radius, scene.injection.perturbation * y};
+        nodes.x[k] = {xi - radius, shape.offset(xi)};
       }
     for (int k = nodes.first; k < nodes.last; ++k)
       nodes.v[k] = Vec2{}; // the channels start from rest
@@ -382,5 +353,15 @@ namespace wirefem::discrete
           w.self_contacts.push_back(sc);
         }
     return w;
+  }
+} // namespace wirefem::discrete
+
+#include <fmt/format.h>
+
+namespace wirefem::discrete
+{
+  std::string ChainModel::description() const
+  {
+    return fmt::format("lambda_0 = {}, dt = {:.4g} (explicit)", lambda0, dt);
   }
 } // namespace wirefem::discrete

@@ -217,6 +217,40 @@ namespace wirefem::scene
                 "Damps axial waves (about 10% of critical for the shortest one at the paper's values, "
                 "c_a = 0.1 sqrt(k1 m)) that otherwise dominate the measured inlet force; no drag on "
                 "rigid motion.");
+      d.declare("FEM/Formulation", "reissner", Patterns::Selection("reissner|kirchhoff"),
+                "Rod theory: 'reissner' (shear-deformable, shear stiffness GA) or 'kirchhoff' (shear-rigid: "
+                "the shear strain is held at zero by a penalty Kirchhoff penalty * EA).");
+      d.declare("FEM/Degree", "1", Patterns::Integer(1, 3),
+                "Polynomial degree p of x, y and theta on each element (1, 2 or 3). The stiffness is "
+                "integrated with p Gauss points (reduced), which keeps thin rods free of locking.");
+      d.declare("FEM/Element length", "1", any_double,
+                "Rest length h (d) of an element. The dashpots of the discrete model carry over as "
+                "eta_a = Discrete/Axial damping * lambda_0 and eta_b = Discrete/Rotational damping * "
+                "lambda_0 (its continuum limit, like EA = k1 lambda_0).");
+      d.declare("FEM/Shear stiffness", "-1", any_double,
+                "GA (force) of the Reissner rod. Negative: 0.9 EA/(2 (1 + 0.3)), a round wire with "
+                "Poisson ratio 0.3 and shear coefficient 0.9.");
+      d.declare("FEM/Kirchhoff penalty", "1000", any_double,
+                "Kirchhoff formulation: shear penalty as a multiple of EA.");
+      d.declare("FEM/Integrator", "generalized-alpha",
+                Patterns::Selection("generalized-alpha|quasi-static|explicit"),
+                "'generalized-alpha': implicit dynamics, Newton with line search and adaptive step; "
+                "'quasi-static': no inertia (equilibrium of elastic, viscous and contact forces); "
+                "'explicit': central differences with a lumped mass matrix (for comparison).");
+      d.declare("FEM/Spectral radius", "0.9", any_double,
+                "rho_infinity in [0, 1] of generalized-alpha: 1 keeps every frequency (no numerical "
+                "dissipation), smaller values damp the unresolved high frequencies.");
+      d.declare("FEM/Time step", "0", any_double,
+                "Implicit: the first and largest time step; the step halves when Newton fails and "
+                "grows again when it converges easily. 0: 0.05 d / Injection/Speed, at most 0.05. "
+                "Explicit: the step; 0: 0.5 of the estimated stability limit.");
+      d.declare("FEM/Minimum time step", "1e-7", any_double,
+                "Below this the implicit step is not cut further: the run stops with a message.");
+      d.declare("FEM/Newton tolerance", "1e-8", any_double,
+                "Newton converges when the residual norm is below this times the force scale "
+                "(EA + the largest inertial force) or the update below it times d.");
+      d.declare("FEM/Maximum iterations", "15", Patterns::Integer(2, 200),
+                "Newton iterations before the step is cut.");
       d.declare("Output/Directory", "", Patterns::Anything(),
                 "Where all output goes. Empty: output/<scene name>.");
       d.declare("Output/Interval", "1", any_double, "Injected length (d) between rows of series.csv.");
@@ -299,6 +333,23 @@ namespace wirefem::scene
       ds.translational_damping = d.get_double("Discrete/Translational damping");
       ds.rotational_damping = d.get_double("Discrete/Rotational damping");
       ds.axial_damping = d.get_double("Discrete/Axial damping");
+      auto &fe = s.fem;
+      fe.formulation = d.get("FEM/Formulation") == "kirchhoff" ? Formulation::kirchhoff : Formulation::reissner;
+      fe.degree = static_cast<unsigned int>(std::stoul(d.get("FEM/Degree")));
+      fe.element_length = d.get_double("FEM/Element length");
+      fe.shear_stiffness = d.get_double("FEM/Shear stiffness");
+      if (fe.shear_stiffness < 0)
+        fe.shear_stiffness = 0.9 * s.wire.axial_stiffness / 2.6;
+      fe.kirchhoff_penalty = d.get_double("FEM/Kirchhoff penalty");
+      const auto integrator = d.get("FEM/Integrator");
+      fe.integrator = integrator == "explicit"       ? Integrator::explicit_lumped
+                      : integrator == "quasi-static" ? Integrator::quasi_static
+                                                     : Integrator::generalized_alpha;
+      fe.spectral_radius = d.get_double("FEM/Spectral radius");
+      fe.time_step = d.get_double("FEM/Time step");
+      fe.minimum_time_step = d.get_double("FEM/Minimum time step");
+      fe.newton_tolerance = d.get_double("FEM/Newton tolerance");
+      fe.maximum_iterations = static_cast<unsigned int>(std::stoul(d.get("FEM/Maximum iterations")));
       auto &o = s.output;
       o.directory = d.get("Output/Directory");
       o.interval = d.get_double("Output/Interval");
@@ -314,7 +365,6 @@ namespace wirefem::scene
     // or together.
     void validate(const Scene &s, const std::string &w)
     {
-      check(s.model == ModelType::discrete, w, "Model", "'fem' is not available in this build yet");
       check(s.cavity.radius > 1.0, w, "Cavity/Radius", "must be larger than 1 (the wire diameter)");
       check(s.wire.axial_stiffness > 0, w, "Wire/Axial stiffness", "must be positive");
       check(s.wire.bending_stiffness >= 0, w, "Wire/Bending stiffness", "must not be negative");
@@ -361,6 +411,15 @@ namespace wirefem::scene
       check(ds.translational_damping >= 0, w, "Discrete/Translational damping", "must not be negative");
       check(ds.axial_damping >= 0, w, "Discrete/Axial damping", "must not be negative");
       check(ds.rotational_damping >= 0, w, "Discrete/Rotational damping", "must not be negative");
+      const auto &fe = s.fem;
+      check(fe.element_length > 0 && fe.element_length <= 0.25 * s.cavity.radius, w, "FEM/Element length",
+            "must be in (0, r/4]");
+      check(fe.shear_stiffness > 0, w, "FEM/Shear stiffness", "must be positive");
+      check(fe.kirchhoff_penalty > 0, w, "FEM/Kirchhoff penalty", "must be positive");
+      check(fe.spectral_radius >= 0 && fe.spectral_radius <= 1, w, "FEM/Spectral radius", "must be in [0, 1]");
+      check(fe.time_step >= 0, w, "FEM/Time step", "must not be negative");
+      check(fe.minimum_time_step > 0, w, "FEM/Minimum time step", "must be positive");
+      check(fe.newton_tolerance > 0, w, "FEM/Newton tolerance", "must be positive");
       check(s.output.interval > 0, w, "Output/Interval", "must be positive");
       check(s.output.checkpoint_interval >= 0, w, "Output/Checkpoint interval", "must not be negative");
       check(s.output.vtu_interval >= 0, w, "Output/VTU interval", "must not be negative");

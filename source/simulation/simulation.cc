@@ -86,11 +86,14 @@ namespace wirefem::simulation
           c.exclusion_length, f.static_coefficient, f.dynamic_coefficient, f.wall_static_coefficient,
           f.wall_dynamic_coefficient, f.threshold_velocity, f.tangential_stiffness_ratio, i.speed,
           i.ramp_time, i.seed, i.perturbation, d.segment_length, d.time_step, d.time_step_factor,
-          d.translational_damping, d.rotational_damping, s.keep_neutral_effects, d.axial_damping);
+          d.translational_damping, d.rotational_damping, s.keep_neutral_effects, d.axial_damping) +
+             fmt::format(" {} {} {} {} {} {} {} {} {} {}", int(s.fem.formulation), s.fem.degree,
+                         s.fem.element_length, s.fem.shear_stiffness, s.fem.kirchhoff_penalty, int(s.fem.integrator),
+                         s.fem.spectral_radius, s.fem.time_step, s.fem.minimum_time_step, s.fem.newton_tolerance);
     }
 
     void write_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, const LoopState &loop,
-                          const io::PvdCollection &pvd, const discrete::ChainModel &model)
+                          const io::PvdCollection &pvd, const Model &model)
     {
       // Written next to the final name and renamed, so an interruption while
       // writing leaves the previous checkpoint intact.
@@ -117,7 +120,7 @@ namespace wirefem::simulation
     }
 
     void read_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, LoopState &loop,
-                         io::PvdCollection &pvd, discrete::ChainModel &model)
+                         io::PvdCollection &pvd, Model &model)
     {
       std::ifstream in(file, std::ios::binary);
       if (!in)
@@ -158,11 +161,9 @@ namespace wirefem::simulation
 
   RunResult run(const scene::Scene &scene, const RunOptions &options)
   {
-    if (scene.model != scene::ModelType::discrete)
-      throw std::runtime_error("Model = fem is not available yet in this build");
-
     const auto wall_start = std::chrono::steady_clock::now();
-    discrete::ChainModel model(scene);
+    const auto model_ptr = make_model(scene);
+    Model &model = *model_ptr;
     const double r = scene.cavity.radius;
     const auto &inj = scene.injection;
 
@@ -175,8 +176,8 @@ namespace wirefem::simulation
     if (options.resume)
       read_checkpoint(checkpoint_file, scene, loop, pvd, model);
     fs::create_directories(dir);
-    std::cout << fmt::format("wirefem: scene {} ({} model), f = r/d = {}, lambda_0 = {}, dt = {:.4g}\n",
-                             scene.name, "discrete", r, scene.discrete.segment_length, model.time_step())
+    std::cout << fmt::format("wirefem: scene {} ({} model), f = r/d = {}, {}\n", scene.name, model.name(), r,
+                             model.description())
               << "active effects: " << join(model.active_effects()) << '\n'
               << "output: " << dir.string() << std::endl;
 
@@ -217,7 +218,7 @@ namespace wirefem::simulation
       const auto morph = analysis::classify(w);
       const int loops = analysis::count_loops(w);
       const auto &e = model.energies();
-      const auto &s = model.last_step();
+      const auto s = model.report();
       const double phi = analysis::packing_density(w.injected_length, r);
       if (write_row)
         series.write_row({model.time(),
@@ -266,7 +267,7 @@ namespace wirefem::simulation
             result.stop_reason = e.what();
             break;
           }
-        const auto &s = model.last_step();
+        const auto s = model.report();
         result.max_penetration = std::max(result.max_penetration, s.max_penetration);
         const double L = model.injected_length();
         const double mean_weight = std::min(1.0, (L - previous_length) / inj.jamming_window);
@@ -281,7 +282,7 @@ namespace wirefem::simulation
         if (model.n_steps() % 256 == 0 && !model.finite())
           {
             result.failed = true;
-            result.stop_reason = "numerical blow-up: non-finite positions (reduce Discrete/Time step factor)";
+            result.stop_reason = "numerical blow-up: non-finite positions (reduce the time step)";
             break;
           }
         if (s.max_penetration > 0.5)
@@ -366,7 +367,7 @@ namespace wirefem::simulation
 
     const auto &e = model.energies();
     nlohmann::json j;
-    j["model"] = "discrete";
+    j["model"] = model.name();
     j["scene"] = scene.name;
     j["phi_final"] = result.phi_final;
     j["injected_length"] = model.injected_length();
@@ -389,6 +390,7 @@ namespace wirefem::simulation
     j["energy"] = {{"initial", e.initial},
                    {"injection_work", e.injection_work},
                    {"stretching", e.stretching},
+                   {"shear", e.shear},
                    {"bending", e.bending},
                    {"contact", e.contact},
                    {"kinetic", e.kinetic},
@@ -400,6 +402,7 @@ namespace wirefem::simulation
     j["force_final"] = 0.5 * (model.force_left() + model.force_right());
     std::ofstream((dir / "summary.json").string()) << j.dump(2) << '\n';
 
+    model.print_timing(std::cout);
     std::cout << fmt::format("{}: {}\nphi = {:.4f}, loops = {}, morphology = {}, symmetry = {:.3f}, "
                              "steps = {}, wall time = {:.1f} s, energy balance error = {:.2e}, "
                              "max overlap = {:.4f} d\n",

@@ -7,7 +7,9 @@
 #include <wirefem/analysis/wire_state.h>
 #include <wirefem/discrete/chain.h>
 #include <wirefem/injection/channels.h>
+#include <wirefem/injection/inlet.h>
 #include <wirefem/scene/parameters.h>
+#include <wirefem/simulation/model.h>
 
 #include <deque>
 #include <iosfwd>
@@ -21,68 +23,52 @@ namespace wirefem::discrete
   class BendingTerm;
   class SelfContactTerm;
 
-  /// Energies of the whole run (force * d). Potentials are current values,
-  /// dissipations and the injection work are accumulated since the start.
-  struct EnergyLedger
-  {
-    double stretching = 0.0;
-    double bending = 0.0;
-    double contact = 0.0;         ///< penalty energy of the normal contact springs
-    double kinetic = 0.0;         ///< free nodes
-    double plastic = 0.0;         ///< plastic work
-    double friction = 0.0;        ///< dissipated by slip of the friction springs
-    double friction_stored = 0.0; ///< in sticking springs now
-    double damping = 0.0;
-    double injection_work = 0.0; ///< work of the channels plus kinetic energy of entering wire
-    double initial = 0.0;        ///< stored in the perturbed initial wire at t = 0
+  using simulation::EnergyLedger;
 
-    double stored() const { return stretching + bending + contact + friction_stored + kinetic; }
-    double dissipated() const { return plastic + friction + damping; }
-    /// (energy in - stored - dissipated) / energy in, energy in = initial + injection work.
-    double balance_error() const
-    {
-      const double in = initial + injection_work;
-      return in > 0.0 ? (in - stored() - dissipated()) / in : 0.0;
-    }
-  };
-
-  class ChainModel
+  class ChainModel final : public simulation::Model
   {
   public:
     explicit ChainModel(const scene::Scene &scene);
-    ~ChainModel();
+    ~ChainModel() override;
+
+    std::string name() const override { return "discrete"; }
+    std::string description() const override;
 
     /// One explicit time step.
-    void step();
+    void step() override;
 
-    double time() const { return t; }
-    double time_step() const { return dt; }
-    unsigned long n_steps() const { return steps; }
-    double injected_length() const { return channels.injected_length(t); }
+    double time() const override { return t; }
+    double time_step() const override { return dt; }
+    unsigned long n_steps() const override { return steps; }
+    double injected_length() const override { return channels.injected_length(t); }
     /// Axial force with which each channel pushes (positive: wire resists),
     /// as the channel's work per injected length over the last lambda_0
     /// injected: a node passes the inlet once per lambda_0, so this window
     /// removes the step of the discrete moving boundary exactly.
-    double force_left() const { return window[0].mean(); }
-    double force_right() const { return window[1].mean(); }
+    double force_left() const override { return window[0].mean(); }
+    double force_right() const override { return window[1].mean(); }
     /// The instantaneous axial reaction of each channel's nodes.
     double instantaneous_force(int side) const { return inlet_force[side]; }
-    const EnergyLedger &energies() const { return ledger; }
+    const EnergyLedger &energies() const override { return ledger; }
     const StepEnergy &last_step() const { return step_energy; }
+    simulation::StepReport report() const override
+    {
+      return {step_energy.max_penetration, step_energy.n_self_contacts, step_energy.n_wall_contacts};
+    }
     /// Names of the effects this run simulates.
-    const std::vector<std::string> &active_effects() const { return effects; }
+    const std::vector<std::string> &active_effects() const override { return effects; }
     const Chain &chain() const { return nodes; }
     /// Whether every coordinate and velocity is finite.
-    bool finite() const;
+    bool finite() const override;
 
     /// The wire from the left inlet to the right inlet, with per-point fields.
-    analysis::WireState wire_state() const;
+    analysis::WireState wire_state() const override;
 
     /// Writes the whole dynamic state (chain, histories, ledger) so that a
     /// model built from the same scene continues bit for bit after load().
-    void save(std::ostream &out) const;
+    void save(std::ostream &out) const override;
     /// Throws std::runtime_error if the data do not fit this model.
-    void load(std::istream &in);
+    void load(std::istream &in) override;
 
   private:
     void place_initial_wire(const scene::Scene &scene);
@@ -101,15 +87,7 @@ namespace wirefem::discrete
     unsigned long steps = 0;
     double inlet_force[2] = {0.0, 0.0};
 
-    /// Work of one channel over the last `length` of injection.
-    struct ForceWindow
-    {
-      double length = 1.0;
-      std::deque<std::pair<double, double>> steps; // (injected, work)
-      double injected = 0.0, work = 0.0;
-      void add(double du, double dw);
-      double mean() const { return injected > 0.0 ? work / injected : 0.0; }
-    };
+    using ForceWindow = injection::ForceWindow;
     ForceWindow window[2];
     EnergyLedger ledger;
     StepEnergy step_energy;

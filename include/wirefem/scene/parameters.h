@@ -86,6 +86,34 @@ namespace wirefem::scene
     double axial_damping = 3.0;         ///< c_a: dashpot tension c_a dlambda/dt (force time / d)
   };
 
+  enum class Formulation
+  {
+    reissner, ///< shear-deformable Simo-Reissner rod
+    kirchhoff ///< shear-rigid: shear strain held at zero by a penalty
+  };
+
+  enum class Integrator
+  {
+    generalized_alpha, ///< implicit dynamics, Newton with line search, adaptive step
+    quasi_static,      ///< no inertia: equilibrium (with the viscous dashpots) at each step
+    explicit_lumped    ///< central differences with a lumped mass matrix
+  };
+
+  struct FemParameters
+  {
+    Formulation formulation = Formulation::reissner;
+    unsigned int degree = 1;       ///< polynomial degree p of (x, y, theta), 1..3
+    double element_length = 1.0;   ///< rest length h of an element (d)
+    double shear_stiffness = -1.0; ///< GA (force); < 0: 0.9 EA / (2 (1 + 0.3)), a round steel wire
+    double kirchhoff_penalty = 1000.0; ///< Kirchhoff: shear penalty GA_K = this * EA
+    Integrator integrator = Integrator::generalized_alpha;
+    double spectral_radius = 0.9;   ///< rho_infinity of generalized-alpha
+    double time_step = 0.0;         ///< first (and largest) step; 0: automatic
+    double minimum_time_step = 1e-7;
+    double newton_tolerance = 1e-8; ///< on the residual norm relative to the force scale
+    unsigned int maximum_iterations = 15;
+  };
+
   struct OutputParameters
   {
     std::string directory;              ///< empty: output/<scene name>
@@ -106,6 +134,7 @@ namespace wirefem::scene
     ContactParameters contact;
     InjectionParameters injection;
     DiscreteParameters discrete;
+    FemParameters fem;
     OutputParameters output;
     bool keep_neutral_effects = false; ///< build effects even with neutral parameters
 

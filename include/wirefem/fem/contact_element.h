@@ -1,0 +1,63 @@
+// Penalty contact with regularised Coulomb friction for the rod FEM, with
+// consistent linearisation. The contact geometry is the polyline through the
+// mesh nodes (the support points of the elements); each contact acts on
+// the nodes that carry it.
+//
+// Normal: a penalty k w g for the overlap g = d - distance (self contact) or
+// g = |x| + d/2 - r (wall), with k the penalty per unit length and w the wire
+// length the contact stands for. It is the gradient of the energy
+// 1/2 k w g^2 (envelope theorem at the closest point).
+//
+// Friction: F_t = -mu(|v_t|) F_n tanh(v_t / v_th) along the contact tangent,
+// mu(v) = mu_d + (mu_st - mu_d) exp(-|v| / v_th). Below v_th the law is a
+// steep viscous branch that carries up to ~mu_st F_n (stick); above it the
+// coefficient relaxes to mu_d (slip). The velocities are those of the time
+// integrator, v = c x + v0 (c = d v / d x of the scheme), so the tangent
+// includes the friction's velocity dependence.
+//
+// Residual convention: the returned vector is the contact's contribution to
+// the internal force (minus the force on the nodes), and the tangent its
+// derivative with respect to the node coordinates (x0, y0, x1, y1, ...).
+#pragma once
+
+#include <wirefem/geometry/vec2.h>
+
+#include <array>
+
+namespace wirefem::fem
+{
+  struct ContactSettings
+  {
+    double diameter = 1.0;
+    double stiffness = 2000.0; ///< k_n per unit length of wire
+    bool friction = false;
+    double mu_static = 0.0;
+    double mu_dynamic = 0.0;
+    double threshold_velocity = 0.01;
+  };
+
+  /// Contribution of one contact on up to four points.
+  struct ContactContribution
+  {
+    int n_points = 0;
+    std::array<double, 8> residual{};         ///< normal + friction
+    std::array<double, 8> friction_residual{}; ///< the friction part of residual
+    std::array<double, 64> tangent{};          ///< d residual / d x, row major, 2 n_points square
+    double overlap = 0.0;
+    double normal_force = 0.0;
+    double energy = 0.0; ///< 1/2 k w g^2
+  };
+
+  /// Wall of the cavity: a circle of radius r, open over |y| < d/2 at x = +-r
+  /// (the channels), where the corners of the openings are the contact.
+  /// Returns false when the point does not touch.
+  bool wall_contact(double radius, const ContactSettings &s, double weight, const geometry::Vec2 &x,
+                    const geometry::Vec2 &v0, double c, ContactContribution &out);
+
+  /// Segment a0-a1 against segment b0-b1 (points 0..3 in that order). In the
+  /// plane the closest points of two segments that do not cross always
+  /// involve an end point; the case is chosen from the current positions.
+  /// Returns false when they are farther apart than d (or cross).
+  bool segment_contact(const ContactSettings &s, double weight, const std::array<geometry::Vec2, 4> &x,
+                       const std::array<geometry::Vec2, 4> &v0, double c, ContactContribution &out);
+} // namespace wirefem::fem

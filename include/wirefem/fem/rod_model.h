@@ -1,0 +1,63 @@
+// The geometrically exact rod FEM (SPEC section 3) behind the same Model
+// interface as the discrete chain: Simo-Reissner (or penalty-Kirchhoff)
+// elements of degree 1-3 on a deal.II Triangulation<1,2>, the elastoplastic
+// moment-curvature law at the quadrature points, penalty contact with
+// regularised Coulomb friction, implicit generalized-alpha time stepping with
+// Newton, line search and an adaptive step, Trilinos matrices and a direct
+// solver.
+//
+// Injection as a moving boundary: the mesh holds the whole wire that can ever
+// enter, at rest length, with material coordinate S. At time t the material
+// in the channels (S outside (s_L(t), s_R(t))) is prescribed - straight on
+// the channel axis, theta along it, moving at the injection speed - so that
+// the position and tangent are clamped at the inlets while material flows
+// in. The unknowns are the nodes between the inlets. The inlet force is the
+// work of the channel reactions per injected length, over one node spacing,
+// which cancels the periodic step of a node passing the inlet.
+//
+// deal.II and Trilinos stay in the .cc file.
+#pragma once
+
+#include <wirefem/simulation/model.h>
+
+#include <memory>
+#include <vector>
+
+namespace wirefem::fem
+{
+  class RodModel final : public simulation::Model
+  {
+  public:
+    explicit RodModel(const scene::Scene &scene);
+    ~RodModel() override;
+
+    std::string name() const override { return "fem"; }
+    std::string description() const override;
+    void step() override;
+    double time() const override;
+    double time_step() const override;
+    unsigned long n_steps() const override;
+    double injected_length() const override;
+    double force_left() const override;
+    double force_right() const override;
+    const simulation::EnergyLedger &energies() const override;
+    simulation::StepReport report() const override;
+    const std::vector<std::string> &active_effects() const override;
+    bool finite() const override;
+    analysis::WireState wire_state() const override;
+    void save(std::ostream &out) const override;
+    void load(std::istream &in) override;
+    void print_timing(std::ostream &out) const override;
+
+    /// Residual norms (max norm over the free dofs) of the Newton iterations
+    /// of the last accepted step, the first at the predictor.
+    const std::vector<double> &newton_history() const;
+    /// Newton failures (step cuts) so far.
+    unsigned long n_step_cuts() const;
+    unsigned int n_dofs() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+} // namespace wirefem::fem

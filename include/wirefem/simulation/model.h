@@ -1,0 +1,92 @@
+// What the run loop needs from a wire model. Both the discrete chain and the
+// rod FEM implement it, so the run loop, analysis and output never know which
+// model they drive.
+#pragma once
+
+#include <wirefem/analysis/wire_state.h>
+#include <wirefem/scene/parameters.h>
+
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace wirefem::simulation
+{
+  /// Energies of the whole run (force * d). Potentials are current values,
+  /// dissipations and the injection work are accumulated since the start.
+  struct EnergyLedger
+  {
+    double stretching = 0.0;
+    double shear = 0.0; ///< FEM: shear strain energy (0 in the discrete model)
+    double bending = 0.0;
+    double contact = 0.0;         ///< penalty energy of the normal contact springs
+    double kinetic = 0.0;         ///< free wire
+    double plastic = 0.0;         ///< plastic work
+    double friction = 0.0;        ///< dissipated by friction
+    double friction_stored = 0.0; ///< in sticking springs now (discrete model)
+    double damping = 0.0;
+    double injection_work = 0.0; ///< work of the channels plus kinetic energy of entering wire
+    double initial = 0.0;        ///< stored in the perturbed initial wire at t = 0
+
+    double stored() const { return stretching + shear + bending + contact + friction_stored + kinetic; }
+    double dissipated() const { return plastic + friction + damping; }
+    /// (energy in - stored - dissipated) / energy in, energy in = initial + injection work.
+    double balance_error() const
+    {
+      const double in = initial + injection_work;
+      return in > 0.0 ? (in - stored() - dissipated()) / in : 0.0;
+    }
+  };
+
+  /// What the last step saw.
+  struct StepReport
+  {
+    double max_penetration = 0.0; ///< largest contact overlap (d)
+    int n_self_contacts = 0;
+    int n_wall_contacts = 0;
+  };
+
+  class Model
+  {
+  public:
+    virtual ~Model() = default;
+    /// "discrete" or "fem".
+    virtual std::string name() const = 0;
+    /// One line on the discretisation (time step, elements, ...).
+    virtual std::string description() const = 0;
+
+    /// Advances by one time step; throws std::runtime_error with a message
+    /// naming the limit when the model cannot continue.
+    virtual void step() = 0;
+
+    virtual double time() const = 0;
+    virtual double time_step() const = 0;
+    virtual unsigned long n_steps() const = 0;
+    /// Wire length inside the cavity, L = 2 r + 2 u(t) (exact).
+    virtual double injected_length() const = 0;
+    /// Axial force with which each channel pushes (positive: the wire resists).
+    virtual double force_left() const = 0;
+    virtual double force_right() const = 0;
+    virtual const EnergyLedger &energies() const = 0;
+    virtual StepReport report() const = 0;
+    /// Names of the effects this run simulates.
+    virtual const std::vector<std::string> &active_effects() const = 0;
+    /// Whether every coordinate and velocity is finite.
+    virtual bool finite() const = 0;
+    /// The wire from the left inlet to the right inlet, with per-point fields.
+    virtual analysis::WireState wire_state() const = 0;
+
+    /// Writes the whole dynamic state so that a model built from the same
+    /// scene continues bit for bit after load().
+    virtual void save(std::ostream &out) const = 0;
+    /// Throws std::runtime_error if the data do not fit this model.
+    virtual void load(std::istream &in) = 0;
+
+    /// Where the time went (written to the run log at the end); may be empty.
+    virtual void print_timing(std::ostream &) const {}
+  };
+
+  /// The model the scene asks for.
+  std::unique_ptr<Model> make_model(const scene::Scene &scene);
+} // namespace wirefem::simulation

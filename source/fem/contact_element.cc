@@ -1,0 +1,178 @@
+#include <wirefem/contact/segment_distance.h>
+#include <wirefem/fem/contact_element.h>
+
+#include <Sacado.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace wirefem::fem
+{
+  namespace
+  {
+    using Fad = Sacado::Fad::DFad<double>;
+    using geometry::Vec2;
+
+    template <typename T>
+    struct P
+    {
+      T x, y;
+    };
+
+    /// Friction force magnitude along the tangent for a tangential velocity
+    /// vt and normal force fn (regularised Coulomb, static to dynamic).
+    template <typename T>
+    T friction_force(const ContactSettings &s, const T &fn, const T &vt)
+    {
+      using std::abs;
+      using std::exp;
+      using std::tanh;
+      const double vth = std::max(s.threshold_velocity, 1e-9);
+      const T mu = s.mu_dynamic + (s.mu_static - s.mu_dynamic) * exp(-abs(vt) / vth);
+      return -mu * fn * tanh(vt / vth);
+    }
+
+    void to_dense(const int n_dofs, const Fad *r, const Fad *rf, ContactContribution &out)
+    {
+      for (int i = 0; i < n_dofs; ++i)
+        {
+          out.residual[i] = r[i].val();
+          out.friction_residual[i] = rf[i].val();
+          for (int j = 0; j < n_dofs; ++j)
+            out.tangent[i * n_dofs + j] = r[i].dx(j);
+        }
+    }
+  } // namespace
+
+  bool wall_contact(const double radius, const ContactSettings &s, const double weight, const Vec2 &x,
+                    const Vec2 &v0, const double c, ContactContribution &out)
+  {
+    const double half_d = 0.5 * s.diameter;
+    const double dist = norm(x);
+    const bool in_opening = std::abs(x.y) * radius < half_d * dist;
+    const Vec2 corner{x.x > 0.0 ? std::sqrt(radius * radius - half_d * half_d)
+                                : -std::sqrt(radius * radius - half_d * half_d),
+                      x.y > 0.0 ? half_d : -half_d};
+    const double overlap = in_opening ? half_d - norm(corner - x) : dist + half_d - radius;
+    if (overlap <= 0.0)
+      return false;
+
+    const Fad px(2, 0, x.x), py(2, 1, x.y);
+    Fad nx, ny, g;
+    if (in_opening)
+      {
+        // n from the point towards the corner: the corner pushes along -n.
+        const Fad dx = corner.x - px, dy = corner.y - py;
+        const Fad dc = sqrt(dx * dx + dy * dy);
+        nx = dx / dc;
+        ny = dy / dc;
+        g = half_d - dc;
+      }
+    else
+      {
+        const Fad r = sqrt(px * px + py * py);
+        nx = px / r;
+        ny = py / r;
+        g = r + half_d - radius;
+      }
+    const double k = s.stiffness * weight;
+    const Fad fn = k * g;
+    // Residual = - force on the point; the normal force is -fn n.
+    Fad r[2] = {fn * nx, fn * ny};
+    Fad rf[2] = {0.0, 0.0};
+    if (s.friction)
+      {
+        const Fad tx = -ny, ty = nx;
+        const Fad vx = c * px + v0.x, vy = c * py + v0.y;
+        const Fad ft = friction_force<Fad>(s, fn, Fad(vx * tx + vy * ty));
+        rf[0] = -ft * tx;
+        rf[1] = -ft * ty;
+        r[0] += rf[0];
+        r[1] += rf[1];
+      }
+    out = ContactContribution{};
+    out.n_points = 1;
+    out.overlap = overlap;
+    out.normal_force = fn.val();
+    out.energy = 0.5 * k * g.val() * g.val();
+    to_dense(2, r, rf, out);
+    return true;
+  }
+
+  bool segment_contact(const ContactSettings &s, const double weight, const std::array<Vec2, 4> &x,
+                       const std::array<Vec2, 4> &v0, const double c, ContactContribution &out)
+  {
+    const auto cp = contact::closest_points(x[0], x[1], x[2], x[3]);
+    if (cp.distance >= s.diameter)
+      return false;
+    out = ContactContribution{};
+    out.n_points = 4;
+    out.overlap = s.diameter - cp.distance;
+    if (cp.distance < 1e-12 * s.diameter)
+      return false; // crossing centrelines: no normal (reported through the overlap)
+
+    // The end point and the segment of the closest pair.
+    int point, s0, s1;
+    if (cp.s <= 0.0 || cp.s >= 1.0)
+      point = cp.s <= 0.0 ? 0 : 1, s0 = 2, s1 = 3;
+    else if (cp.t <= 0.0 || cp.t >= 1.0)
+      point = cp.t <= 0.0 ? 2 : 3, s0 = 0, s1 = 1;
+    else
+      return false; // both interior: the centrelines cross
+
+    const int ids[3] = {point, s0, s1};
+    P<Fad> p[3];
+    for (int m = 0; m < 3; ++m)
+      p[m] = {Fad(6, 2 * m, x[ids[m]].x), Fad(6, 2 * m + 1, x[ids[m]].y)};
+    const Fad dx = p[2].x - p[1].x, dy = p[2].y - p[1].y;
+    Fad t = ((p[0].x - p[1].x) * dx + (p[0].y - p[1].y) * dy) / (dx * dx + dy * dy);
+    if (t.val() <= 0.0)
+      t = 0.0;
+    else if (t.val() >= 1.0)
+      t = 1.0;
+    const Fad qx = p[1].x + t * dx, qy = p[1].y + t * dy;
+    const Fad ex = p[0].x - qx, ey = p[0].y - qy;
+    const Fad dist = sqrt(ex * ex + ey * ey);
+    const Fad nx = ex / dist, ny = ey / dist; // from the segment towards the point
+    const double k = s.stiffness * weight;
+    const Fad g = s.diameter - dist;
+    const Fad fn = k * g;
+    // Force on the point +fn n, on the segment ends -(1-t) fn n and -t fn n.
+    Fad fx = fn * nx, fy = fn * ny;
+    Fad ffx = 0.0, ffy = 0.0;
+    if (s.friction)
+      {
+        const Fad tx = -ny, ty = nx;
+        const Fad vpx = c * p[0].x + v0[ids[0]].x, vpy = c * p[0].y + v0[ids[0]].y;
+        const Fad vqx = (1.0 - t) * (c * p[1].x + v0[ids[1]].x) + t * (c * p[2].x + v0[ids[2]].x);
+        const Fad vqy = (1.0 - t) * (c * p[1].y + v0[ids[1]].y) + t * (c * p[2].y + v0[ids[2]].y);
+        const Fad ft = friction_force<Fad>(s, fn, Fad((vpx - vqx) * tx + (vpy - vqy) * ty));
+        ffx = ft * tx;
+        ffy = ft * ty;
+      }
+    const Fad share[3] = {Fad(1.0), -(1.0 - t), -t};
+    Fad r[8], rf[8];
+    for (int i = 0; i < 8; ++i)
+      r[i] = rf[i] = Fad(6, 0.0);
+    for (int m = 0; m < 3; ++m)
+      {
+        rf[2 * ids[m]] = -share[m] * ffx;
+        rf[2 * ids[m] + 1] = -share[m] * ffy;
+        r[2 * ids[m]] = -share[m] * (fx + ffx);
+        r[2 * ids[m] + 1] = -share[m] * (fy + ffy);
+      }
+    // Derivatives are with respect to the three points' coordinates: spread
+    // them to the 8 coordinates of the four points.
+    for (int i = 0; i < 8; ++i)
+      {
+        out.residual[i] = r[i].val();
+        out.friction_residual[i] = rf[i].val();
+        for (int m = 0; m < 3; ++m)
+          for (int cc = 0; cc < 2; ++cc)
+            out.tangent[i * 8 + 2 * ids[m] + cc] = r[i].dx(2 * m + cc);
+      }
+    out.normal_force = fn.val();
+    out.energy = 0.5 * k * g.val() * g.val();
+    return true;
+  }
+} // namespace wirefem::fem

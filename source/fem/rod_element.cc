@@ -1,0 +1,164 @@
+#include <wirefem/fem/rod_element.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_q.h>
+
+#include <Sacado.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace wirefem::fem
+{
+  ElementShape ElementShape::lagrange(const unsigned int degree, const double h, const unsigned int n_q)
+  {
+    if (degree < 1 || n_q < 1 || !(h > 0.0))
+      throw std::invalid_argument("ElementShape: degree >= 1, n_q >= 1 and h > 0 required");
+    const dealii::FE_Q<1> fe(degree);
+    const dealii::QGauss<1> quadrature(n_q);
+    ElementShape s;
+    s.n_nodes = fe.dofs_per_cell;
+    s.n_q = n_q;
+    s.length = h;
+    s.N.resize(n_q * s.n_nodes);
+    s.dN.resize(n_q * s.n_nodes);
+    for (unsigned int q = 0; q < n_q; ++q)
+      {
+        s.weight.push_back(quadrature.weight(q) * h);
+        for (unsigned int a = 0; a < s.n_nodes; ++a)
+          {
+            s.N[q * s.n_nodes + a] = fe.shape_value(a, quadrature.point(q));
+            s.dN[q * s.n_nodes + a] = fe.shape_grad(a, quadrature.point(q))[0] / h;
+          }
+      }
+    for (unsigned int a = 0; a < s.n_nodes; ++a)
+      s.node_position.push_back(fe.get_unit_support_points()[a][0]);
+    return s;
+  }
+
+  namespace
+  {
+    using std::cos;
+    using std::sin;
+
+    struct Strains
+    {
+      double eps, gamma, kappa, theta;
+    };
+
+    template <typename T>
+    struct PointKinematics
+    {
+      T dx, dy, theta, kappa, c, s, eps, gamma;
+    };
+
+    template <typename T>
+    PointKinematics<T> kinematics(const ElementShape &shape, const unsigned int q, const T *u)
+    {
+      PointKinematics<T> k{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+      for (unsigned int a = 0; a < shape.n_nodes; ++a)
+        {
+          const double N = shape.value(q, a), dN = shape.derivative(q, a);
+          k.dx += dN * u[3 * a];
+          k.dy += dN * u[3 * a + 1];
+          k.theta += N * u[3 * a + 2];
+          k.kappa += dN * u[3 * a + 2];
+        }
+      k.c = cos(k.theta);
+      k.s = sin(k.theta);
+      k.eps = k.c * k.dx + k.s * k.dy - 1.0;
+      k.gamma = -k.s * k.dx + k.c * k.dy;
+      return k;
+    }
+
+    // Residual with scalar type T: double for the value, Fad for the tangent.
+    template <typename T>
+    void residual(const ElementShape &shape, const SectionProperties &section,
+                  const material::MomentCurvatureLaw &law, const T *u, const PointState *old, const double dt,
+                  T *r, ElementResult *values)
+    {
+      const unsigned int n = 3 * shape.n_nodes;
+      for (unsigned int i = 0; i < n; ++i)
+        r[i] = 0.0;
+      for (unsigned int q = 0; q < shape.n_q; ++q)
+        {
+          const auto k = kinematics(shape, q, u);
+          const double kappa_value = Sacado::ScalarValue<T>::eval(k.kappa);
+          const auto m = law.evaluate(kappa_value, old[q].plastic);
+          // Linearisation of the return mapping at the current curvature.
+          T M = m.moment + m.tangent * (k.kappa - kappa_value);
+          T N = section.EA * k.eps;
+          const T Q = section.GA * k.gamma;
+          const double w = shape.weight[q];
+          if (dt > 0.0)
+            {
+              N += section.axial_viscosity / dt * (k.eps - old[q].axial_strain);
+              M += section.bending_viscosity / dt * (k.kappa - old[q].curvature);
+            }
+          for (unsigned int a = 0; a < shape.n_nodes; ++a)
+            {
+              const double Na = shape.value(q, a), dNa = shape.derivative(q, a);
+              r[3 * a] += w * (N * k.c - Q * k.s) * dNa;
+              r[3 * a + 1] += w * (N * k.s + Q * k.c) * dNa;
+              r[3 * a + 2] += w * ((N * k.gamma - Q * (1.0 + k.eps)) * Na + M * dNa);
+            }
+          if (values)
+            {
+              const double eps = Sacado::ScalarValue<T>::eval(k.eps);
+              const double gamma = Sacado::ScalarValue<T>::eval(k.gamma);
+              auto &st = values->state[q];
+              st.plastic = m.state;
+              st.axial_strain = eps;
+              st.shear_strain = gamma;
+              st.curvature = kappa_value;
+              values->axial_energy += w * 0.5 * section.EA * eps * eps;
+              values->shear_energy += w * 0.5 * section.GA * gamma * gamma;
+              values->bending_energy += w * law.elastic_energy(kappa_value, m.state);
+              values->plastic_work += w * m.plastic_work;
+              if (dt > 0.0)
+                {
+                  const double de = eps - old[q].axial_strain, dk = kappa_value - old[q].curvature;
+                  values->viscous_work +=
+                    w * (section.axial_viscosity * de * de + section.bending_viscosity * dk * dk) / dt;
+                }
+            }
+        }
+    }
+  } // namespace
+
+  void evaluate_rod_element(const ElementShape &shape, const SectionProperties &section,
+                            const material::MomentCurvatureLaw &law, const double *dofs,
+                            const PointState *old, const double dt, const bool want_tangent, ElementResult &out)
+  {
+    const unsigned int n = 3 * shape.n_nodes;
+    out.residual.assign(n, 0.0);
+    out.state.assign(shape.n_q, PointState{});
+    out.axial_energy = out.shear_energy = out.bending_energy = out.plastic_work = out.viscous_work = 0.0;
+    residual<double>(shape, section, law, dofs, old, dt, out.residual.data(), &out);
+    out.tangent.clear();
+    if (!want_tangent)
+      return;
+    using Fad = Sacado::Fad::DFad<double>;
+    std::vector<Fad> u(n), r(n);
+    for (unsigned int i = 0; i < n; ++i)
+      u[i] = Fad(n, i, dofs[i]);
+    residual<Fad>(shape, section, law, u.data(), old, dt, r.data(), nullptr);
+    out.tangent.resize(n * n);
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int j = 0; j < n; ++j)
+        out.tangent[i * n + j] = r[i].dx(j);
+  }
+
+  double rod_element_energy(const ElementShape &shape, const SectionProperties &section,
+                            const material::MomentCurvatureLaw &law, const double *dofs, const PointState *old)
+  {
+    double e = 0.0;
+    for (unsigned int q = 0; q < shape.n_q; ++q)
+      {
+        const auto k = kinematics(shape, q, dofs);
+        e += shape.weight[q] * (0.5 * section.EA * k.eps * k.eps + 0.5 * section.GA * k.gamma * k.gamma +
+                                law.elastic_energy(k.kappa, old[q].plastic));
+      }
+    return e;
+  }
+} // namespace wirefem::fem

@@ -1,0 +1,972 @@
+#include <wirefem/analysis/observables.h>
+#include <wirefem/contact/broad_phase.h>
+#include <wirefem/contact/segment_distance.h>
+#include <wirefem/fem/contact_element.h>
+#include <wirefem/fem/rod_element.h>
+#include <wirefem/fem/rod_model.h>
+#include <wirefem/injection/channels.h>
+#include <wirefem/injection/inlet.h>
+#include <wirefem/io/binary.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/trilinos_solver.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace wirefem::fem
+{
+  using geometry::Vec2;
+  using injection::Side;
+
+  namespace
+  {
+    constexpr std::uint64_t fem_magic = 0x77666d66656d3031ull; // "wfmfem01"
+
+    /// Everything an evaluation of the residual produces.
+    struct Evaluation
+    {
+      dealii::Vector<double> residual; ///< full, all dofs (reactions at prescribed dofs)
+      dealii::Vector<double> force;    ///< internal + contact forces (unblended), full
+      dealii::Vector<double> friction; ///< friction part of force, full
+      std::vector<PointState> state;   ///< per cell and quadrature point
+      std::vector<double> node_contact_force;
+      struct Pair
+      {
+        int i, j;
+        double s, t, fn;
+      };
+      std::vector<Pair> pairs;
+      double axial = 0, shear = 0, bending = 0, contact = 0, plastic = 0, viscous = 0;
+      double max_overlap = 0;
+      int n_wall = 0;
+    };
+  } // namespace
+
+  struct RodModel::Impl
+  {
+    scene::Scene scene;
+    double radius, diameter, rhoA, rhoI;
+    injection::Channels channels;
+    unsigned int p;
+    double h;
+    dealii::Triangulation<1, 2> tria;
+    dealii::FESystem<1, 2> fe;
+    dealii::DoFHandler<1, 2> dof_handler;
+    ElementShape stiffness_shape, mass_shape;
+    std::vector<double> element_mass; // 3n x 3n, same for every element
+    SectionProperties section;
+    material::MomentCurvatureLaw law{1.0};
+    bool plastic = false, viscous = false;
+    ContactSettings wall_settings, self_settings;
+
+    unsigned int n_cells = 0, n_nodes = 0, n_local = 0;
+    std::vector<double> node_S;                 // material coordinate of node k (sorted)
+    std::vector<std::vector<unsigned int>> cell_node; // node of local node a
+    double a_left = 0, a_right = 0;             // material coordinates of the inlets at t = 0
+    double min_spacing = 0;
+
+    // Generalized-alpha.
+    double alpha_m = 0, alpha_f = 0, beta = 0.25, gamma = 0.5;
+    bool inertia = true;
+
+    // State at t_n.
+    dealii::Vector<double> u, v, a, f_old, friction_old;
+    std::vector<PointState> qp;
+    double t = 0, dt = 0, dt_max = 0;
+    unsigned long steps = 0, cuts = 0;
+    int first_free = 0, last_free = 0; // free nodes [first, last)
+
+    contact::BroadPhase broad;
+    int exclusion = 1;
+    dealii::SparsityPattern sparsity;
+    dealii::TrilinosWrappers::SparseMatrix K;
+    int sp_first = -1, sp_last = -1;
+    std::vector<contact::SegmentPair> sp_pairs;
+
+    simulation::EnergyLedger ledger;
+    simulation::StepReport last_report;
+    injection::ForceWindow window[2];
+    std::vector<std::string> effects;
+    std::vector<double> history;
+    Evaluation latest; ///< at the last accepted state
+    dealii::TimerOutput timer;
+    std::ostringstream timer_stream;
+
+    explicit Impl(const scene::Scene &s);
+
+    int node_dof(unsigned int node, unsigned int c) const { return static_cast<int>(3 * node + c); }
+    double left_inlet_S(double time) const { return a_left - channels.injected_per_channel(time); }
+    double right_inlet_S(double time) const { return a_right + channels.injected_per_channel(time); }
+    void free_range(double time, int &first, int &last) const;
+    void prescribe(double time, dealii::Vector<double> &x, dealii::Vector<double> *vel,
+                   dealii::Vector<double> *acc, int first, int last) const;
+    Vec2 position(const dealii::Vector<double> &x, unsigned int k) const
+    {
+      return {x[3 * k], x[3 * k + 1]};
+    }
+    double node_weight(unsigned int k) const
+    {
+      const double l = k > 0 ? node_S[k] - node_S[k - 1] : 0.0;
+      const double r = k + 1 < n_nodes ? node_S[k + 1] - node_S[k] : 0.0;
+      return 0.5 * (l + r);
+    }
+
+    /// Assembles at u1 (free range [first, last)). c_mass and c_stiff scale
+    /// the inertia and force parts of the tangent; with want_tangent the
+    /// matrix K (window dofs) is filled.
+    void evaluate(const dealii::Vector<double> &u1, const dealii::Vector<double> &a_blend, double step,
+                  double c_vel, const dealii::Vector<double> &v0, int first, int last, bool want_tangent,
+                  double c_mass, double c_force, double blend_force, Evaluation &e);
+    void rebuild_sparsity(int first, int last);
+    bool solve_step(double step);
+    void commit(double step, int first, int last, const dealii::Vector<double> &u1,
+                const dealii::Vector<double> &v1, const dealii::Vector<double> &a1, Evaluation &e);
+    double kinetic_energy(const dealii::Vector<double> &vel, int first, int last) const;
+    bool cell_active(unsigned int c, int first, int last) const
+    {
+      for (const auto k : cell_node[c])
+        if (static_cast<int>(k) >= first && static_cast<int>(k) < last)
+          return true;
+      return false;
+    }
+  };
+
+  RodModel::Impl::Impl(const scene::Scene &s)
+    : scene(s)
+    , radius(s.cavity.radius)
+    , diameter(1.0)
+    , rhoA(s.wire.mass_per_length)
+    , rhoI(s.wire.mass_per_length * diameter * diameter / 16.0)
+    , channels(s.cavity.radius, s.injection.speed, s.injection.ramp_time)
+    , p(s.fem.degree)
+    , h(s.fem.element_length)
+    , fe(dealii::FE_Q<1, 2>(s.fem.degree), 3)
+    , broad(1.0, s.contact.skin, 1)
+    , timer(timer_stream, dealii::TimerOutput::never, dealii::TimerOutput::wall_times)
+  {
+    // The wire the channels can ever push in: phi_max pi r^2 inside, plus
+    // two elements of margin in each channel.
+    const double L_max = s.injection.maximum_packing_density * M_PI * radius * radius / diameter;
+    const double per_channel = 0.5 * (L_max - 2.0 * radius) + 2.0 * h;
+    const unsigned int n_channel = static_cast<unsigned int>(std::ceil(per_channel / h));
+    const unsigned int n_cavity = static_cast<unsigned int>(std::ceil(2.0 * radius / h - 1e-9));
+    n_cells = 2 * n_channel + n_cavity;
+    a_left = n_channel * h;
+    a_right = a_left + 2.0 * radius;
+
+    std::vector<dealii::Point<2>> vertices(n_cells + 1);
+    for (unsigned int i = 0; i <= n_cells; ++i)
+      vertices[i] = dealii::Point<2>(i * h, 0.0);
+    std::vector<dealii::CellData<1>> cells(n_cells);
+    for (unsigned int i = 0; i < n_cells; ++i)
+      {
+        cells[i].vertices[0] = i;
+        cells[i].vertices[1] = i + 1;
+      }
+    tria.create_triangulation(vertices, cells, dealii::SubCellData());
+    dof_handler.reinit(tria);
+    dof_handler.distribute_dofs(fe);
+    n_local = fe.n_dofs_per_cell();
+    n_nodes = n_cells * p + 1;
+
+    // Number the dofs node by node along the wire, (x, y, theta) per node,
+    // so that the free nodes between the inlets are one contiguous block.
+    std::vector<dealii::types::global_dof_index> renumber(dof_handler.n_dofs());
+    std::vector<dealii::types::global_dof_index> local(n_local);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        const unsigned int k = static_cast<unsigned int>(std::lround(cell->vertex(0)[0] / h));
+        cell->get_dof_indices(local);
+        for (unsigned int i = 0; i < n_local; ++i)
+          {
+            const auto ci = fe.system_to_component_index(i);
+            const unsigned int a_ = ci.second;
+            const unsigned int node = a_ == 0 ? k * p : a_ == 1 ? (k + 1) * p : k * p + (a_ - 1);
+            renumber[local[i]] = 3 * node + ci.first;
+          }
+      }
+    dof_handler.renumber_dofs(renumber);
+    cell_node.assign(n_cells, std::vector<unsigned int>(p + 1));
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        const unsigned int k = static_cast<unsigned int>(std::lround(cell->vertex(0)[0] / h));
+        cell->get_dof_indices(local);
+        for (unsigned int i = 0; i < n_local; ++i)
+          {
+            const auto ci = fe.system_to_component_index(i);
+            if (local[i] % 3 != ci.first)
+              throw std::logic_error("RodModel: unexpected dof numbering");
+            cell_node[k][ci.second] = static_cast<unsigned int>(local[i] / 3);
+          }
+      }
+
+    stiffness_shape = ElementShape::lagrange(p, h, p); // reduced: p Gauss points
+    mass_shape = ElementShape::lagrange(p, h, p + 1);
+    node_S.resize(n_nodes);
+    for (unsigned int c = 0; c < n_cells; ++c)
+      for (unsigned int a_ = 0; a_ <= p; ++a_)
+        node_S[cell_node[c][a_]] = (c + stiffness_shape.node_position[a_]) * h;
+    min_spacing = h;
+    for (unsigned int k = 0; k + 1 < n_nodes; ++k)
+      min_spacing = std::min(min_spacing, node_S[k + 1] - node_S[k]);
+
+    element_mass.assign(9 * (p + 1) * (p + 1), 0.0);
+    const unsigned int nd = 3 * (p + 1);
+    for (unsigned int q = 0; q < mass_shape.n_q; ++q)
+      for (unsigned int i = 0; i <= p; ++i)
+        for (unsigned int j = 0; j <= p; ++j)
+          for (unsigned int c = 0; c < 3; ++c)
+            element_mass[(3 * i + c) * nd + 3 * j + c] +=
+                mass_shape.weight[q] * mass_shape.value(q, i) * mass_shape.value(q, j) * (c < 2 ? rhoA : rhoI);
+
+    // Section and material.
+    const auto &w = s.wire;
+    section.EA = w.axial_stiffness;
+    section.GA = s.fem.formulation == scene::Formulation::kirchhoff ? s.fem.kirchhoff_penalty * w.axial_stiffness
+                                                                    : s.fem.shear_stiffness;
+    // The dashpots of the discrete model in the continuum limit.
+    section.axial_viscosity = s.discrete.axial_damping * s.discrete.segment_length;
+    section.bending_viscosity = s.discrete.rotational_damping * s.discrete.segment_length;
+    viscous = section.axial_viscosity > 0 || section.bending_viscosity > 0;
+    const auto &pl = w.plasticity;
+    const bool keep = s.keep_neutral_effects;
+    plastic = w.bending_stiffness > 0 && pl.enabled &&
+              (keep || (pl.yield_curvature * s.discrete.segment_length < M_PI && pl.hardening_slope < 1.0));
+    law = plastic ? material::MomentCurvatureLaw(w.bending_stiffness, pl.yield_curvature, pl.hardening_slope,
+                                                 pl.hardening)
+                  : material::MomentCurvatureLaw(w.bending_stiffness);
+
+    effects = {"stretching", s.fem.formulation == scene::Formulation::kirchhoff ? "shear constraint" : "shear"};
+    if (w.bending_stiffness > 0)
+      effects.push_back("bending");
+    if (plastic)
+      effects.push_back("plasticity");
+    if (viscous)
+      effects.push_back("damping");
+    const auto &con = s.contact;
+    const auto &fr = con.friction;
+    ContactSettings base;
+    base.diameter = diameter;
+    base.stiffness = con.normal_stiffness;
+    base.threshold_velocity = fr.threshold_velocity;
+    wall_settings = self_settings = base;
+    wall_settings.mu_static = fr.wall_static_coefficient;
+    wall_settings.mu_dynamic = fr.wall_dynamic_coefficient;
+    wall_settings.friction = con.wall_contact && (keep || fr.wall_static_coefficient > 0);
+    self_settings.mu_static = fr.static_coefficient;
+    self_settings.mu_dynamic = fr.dynamic_coefficient;
+    self_settings.friction = con.self_contact && (keep || fr.static_coefficient > 0);
+    if (con.wall_contact)
+      effects.push_back("wall contact");
+    if (con.self_contact)
+      effects.push_back("self contact");
+    if (wall_settings.friction || self_settings.friction)
+      effects.push_back("friction");
+    const auto integrator = s.fem.integrator;
+    inertia = integrator != scene::Integrator::quasi_static;
+    if (inertia)
+      effects.push_back("inertia");
+    exclusion = std::max(1, static_cast<int>(std::ceil(con.exclusion_length / min_spacing - 1e-9)));
+    broad = contact::BroadPhase(diameter, con.skin, exclusion);
+
+    if (integrator == scene::Integrator::generalized_alpha)
+      {
+        const double rho = s.fem.spectral_radius;
+        alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
+        alpha_f = rho / (rho + 1.0);
+        gamma = 0.5 - alpha_m + alpha_f;
+        beta = 0.25 * (1.0 - alpha_m + alpha_f) * (1.0 - alpha_m + alpha_f);
+      }
+    else if (integrator == scene::Integrator::explicit_lumped)
+      throw std::runtime_error("FEM/Integrator = explicit is not implemented yet; use generalized-alpha");
+    dt_max = s.fem.time_step > 0 ? s.fem.time_step : std::min(0.05, 0.05 * diameter / s.injection.speed);
+    dt = dt_max;
+    for (int side = 0; side < 2; ++side)
+      window[side].length = h / p;
+
+    // Initial state: straight in the channels, the seeded shape across the
+    // cavity, at rest.
+    const unsigned int n_dofs = dof_handler.n_dofs();
+    u.reinit(n_dofs);
+    v.reinit(n_dofs);
+    a.reinit(n_dofs);
+    f_old.reinit(n_dofs);
+    friction_old.reinit(n_dofs);
+    qp.assign(n_cells * stiffness_shape.n_q, PointState{});
+    free_range(0.0, first_free, last_free);
+    prescribe(0.0, u, nullptr, nullptr, first_free, last_free);
+    const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, 2.0 * radius);
+    for (int k = first_free; k < last_free; ++k)
+      {
+        const double xi = node_S[k] - a_left;
+        u[3 * k] = xi - radius;
+        u[3 * k + 1] = shape.offset(xi);
+        u[3 * k + 2] = std::atan(shape.slope(xi));
+      }
+    // Stored energy of the perturbed wire and the initial acceleration.
+    Evaluation e;
+    dealii::Vector<double> zero(n_dofs);
+    for (unsigned int c = 0; c < n_cells; ++c)
+      if (cell_active(c, first_free, last_free))
+        {
+          std::vector<double> ue(n_local);
+          for (unsigned int a_ = 0; a_ <= p; ++a_)
+            for (unsigned int cc = 0; cc < 3; ++cc)
+              ue[3 * a_ + cc] = u[3 * cell_node[c][a_] + cc];
+          ledger.initial += rod_element_energy(stiffness_shape, section, law, ue.data(),
+                                               &qp[c * stiffness_shape.n_q]);
+        }
+    if (inertia)
+      {
+        // M a0 = -f(u0) on the free dofs.
+        evaluate(u, zero, 0.0, 0.0, zero, first_free, last_free, true, 1.0, 0.0, 0.0, e);
+        dealii::Vector<double> rhs(3 * (last_free - first_free)), x(rhs.size());
+        for (unsigned int i = 0; i < rhs.size(); ++i)
+          rhs[i] = -e.force[3 * first_free + i];
+        dealii::SolverControl control(1, 0);
+        dealii::TrilinosWrappers::SolverDirect solver(control);
+        solver.solve(K, x, rhs);
+        for (unsigned int i = 0; i < x.size(); ++i)
+          a[3 * first_free + i] = x[i];
+        f_old = e.force;
+        friction_old = e.friction;
+      }
+  }
+
+  void RodModel::Impl::free_range(const double time, int &first, int &last) const
+  {
+    const double sl = left_inlet_S(time), sr = right_inlet_S(time);
+    first = static_cast<int>(std::upper_bound(node_S.begin(), node_S.end(), sl + 1e-12 * h) - node_S.begin());
+    last = static_cast<int>(std::lower_bound(node_S.begin(), node_S.end(), sr - 1e-12 * h) - node_S.begin());
+    if (first < 1 || last >= static_cast<int>(n_nodes))
+      throw std::runtime_error("the wire in the channels is used up (Injection/Maximum packing density "
+                               "sets how much wire the mesh holds)");
+  }
+
+  void RodModel::Impl::prescribe(const double time, dealii::Vector<double> &x, dealii::Vector<double> *vel,
+                                 dealii::Vector<double> *acc, const int first, const int last) const
+  {
+    const double speed = channels.injection_speed(time);
+    const double ramp = scene.injection.ramp_time;
+    const double accel = time < ramp ? 0.5 * scene.injection.speed * M_PI / ramp * std::sin(M_PI * time / ramp) : 0;
+    for (unsigned int k = 0; k < n_nodes; ++k)
+      {
+        const int ki = static_cast<int>(k);
+        if (ki >= first && ki < last)
+          continue;
+        const Side side = ki < first ? Side::left : Side::right;
+        const double m = side == Side::left ? node_S[k] - a_left : a_right - node_S[k];
+        const Vec2 pos = channels.position(side, m, time);
+        const Vec2 axis = channels.axis(side);
+        x[3 * k] = pos.x;
+        x[3 * k + 1] = pos.y;
+        x[3 * k + 2] = 0.0;
+        if (vel)
+          {
+            (*vel)[3 * k] = speed * axis.x;
+            (*vel)[3 * k + 1] = 0.0;
+            (*vel)[3 * k + 2] = 0.0;
+          }
+        if (acc)
+          {
+            (*acc)[3 * k] = accel * axis.x;
+            (*acc)[3 * k + 1] = 0.0;
+            (*acc)[3 * k + 2] = 0.0;
+          }
+      }
+  }
+
+  void RodModel::Impl::rebuild_sparsity(const int first, const int last)
+  {
+    const int lo = 3 * first, n = 3 * (last - first);
+    dealii::DynamicSparsityPattern dsp(n, n);
+    auto couple = [&](const std::vector<int> &nodes) {
+      for (const int ka : nodes)
+        for (const int kb : nodes)
+          if (ka >= first && ka < last && kb >= first && kb < last)
+            for (int ca = 0; ca < 3; ++ca)
+              for (int cb = 0; cb < 3; ++cb)
+                dsp.add(3 * ka + ca - lo, 3 * kb + cb - lo);
+    };
+    for (unsigned int c = 0; c < n_cells; ++c)
+      if (cell_active(c, first, last))
+        couple(std::vector<int>(cell_node[c].begin(), cell_node[c].end()));
+    for (const auto &pr : broad.candidates())
+      couple({pr.i, pr.i + 1, pr.j, pr.j + 1});
+    sparsity.copy_from(dsp);
+    K.reinit(sparsity);
+    sp_first = first;
+    sp_last = last;
+    sp_pairs = broad.candidates();
+  }
+
+  void RodModel::Impl::evaluate(const dealii::Vector<double> &u1, const dealii::Vector<double> &a_blend,
+                                const double step, const double c_vel, const dealii::Vector<double> &v0,
+                                const int first, const int last, const bool want_tangent, const double c_mass,
+                                const double c_force, const double blend_force, Evaluation &e)
+  {
+    const unsigned int n_dofs = u1.size();
+    e.residual.reinit(n_dofs);
+    e.force.reinit(n_dofs);
+    e.friction.reinit(n_dofs);
+    e.state.assign(qp.size(), PointState{});
+    e.node_contact_force.assign(n_nodes, 0.0);
+    e.pairs.clear();
+    e.axial = e.shear = e.bending = e.contact = e.plastic = e.viscous = e.max_overlap = 0;
+    e.n_wall = 0;
+    if (want_tangent)
+      {
+        if (first != sp_first || last != sp_last || broad.candidates() != sp_pairs)
+          rebuild_sparsity(first, last);
+        K = 0;
+      }
+    const int lo = 3 * first, hi = 3 * last;
+    std::vector<dealii::types::global_dof_index> rows;
+    dealii::FullMatrix<double> block;
+    auto add_matrix = [&](const std::vector<int> &g, const double *m, const double scale) {
+      rows.clear();
+      std::vector<int> pick;
+      for (unsigned int i = 0; i < g.size(); ++i)
+        if (g[i] >= lo && g[i] < hi)
+          {
+            rows.push_back(g[i] - lo);
+            pick.push_back(i);
+          }
+      if (rows.empty())
+        return;
+      block.reinit(rows.size(), rows.size());
+      for (unsigned int i = 0; i < pick.size(); ++i)
+        for (unsigned int j = 0; j < pick.size(); ++j)
+          block(i, j) = scale * m[pick[i] * g.size() + pick[j]];
+      K.add(rows, block);
+    };
+
+    // Elements.
+    {
+      dealii::TimerOutput::Scope ts(timer, "assemble elements");
+      const unsigned int nd = n_local;
+      std::vector<int> g(nd);
+      std::vector<double> ue(nd), mat(nd * nd);
+      ElementResult er;
+      const double viscous_dt = viscous && step > 0 ? step : 0.0;
+      for (unsigned int c = 0; c < n_cells; ++c)
+        {
+          if (!cell_active(c, first, last))
+            continue;
+          for (unsigned int a_ = 0; a_ <= p; ++a_)
+            for (unsigned int cc = 0; cc < 3; ++cc)
+              {
+                g[3 * a_ + cc] = static_cast<int>(3 * cell_node[c][a_] + cc);
+                ue[3 * a_ + cc] = u1[g[3 * a_ + cc]];
+              }
+          const PointState *old = &qp[c * stiffness_shape.n_q];
+          evaluate_rod_element(stiffness_shape, section, law, ue.data(), old, viscous_dt, want_tangent, er);
+          for (unsigned int i = 0; i < nd; ++i)
+            {
+              e.force[g[i]] += er.residual[i];
+              double inertial = 0;
+              if (c_mass > 0 || inertia)
+                for (unsigned int j = 0; j < nd; ++j)
+                  inertial += element_mass[i * nd + j] * a_blend[g[j]];
+              e.residual[g[i]] += blend_force * er.residual[i] + (inertia ? inertial : 0.0);
+            }
+          if (want_tangent)
+            {
+              for (unsigned int i = 0; i < nd * nd; ++i)
+                mat[i] = c_force * er.tangent[i] + (inertia ? c_mass * element_mass[i] : 0.0);
+              add_matrix(g, mat.data(), 1.0);
+            }
+          std::copy(er.state.begin(), er.state.end(), e.state.begin() + c * stiffness_shape.n_q);
+          e.axial += er.axial_energy;
+          e.shear += er.shear_energy;
+          e.bending += er.bending_energy;
+          e.plastic += er.plastic_work;
+          e.viscous += er.viscous_work;
+        }
+    }
+
+    // Contact.
+    dealii::TimerOutput::Scope ts(timer, "assemble contact");
+    ContactContribution cc;
+    auto add_contact = [&](const std::vector<int> &nodes) {
+      std::vector<int> g;
+      for (const int k : nodes)
+        {
+          g.push_back(3 * k);
+          g.push_back(3 * k + 1);
+        }
+      for (unsigned int i = 0; i < g.size(); ++i)
+        {
+          e.force[g[i]] += cc.residual[i];
+          e.friction[g[i]] += cc.friction_residual[i];
+          e.residual[g[i]] += blend_force * cc.residual[i];
+        }
+      if (want_tangent)
+        add_matrix(g, cc.tangent.data(), c_force);
+      e.contact += cc.energy;
+      e.max_overlap = std::max(e.max_overlap, cc.overlap);
+    };
+    auto vel0 = [&](int k) { return Vec2{v0[3 * k], v0[3 * k + 1]}; };
+    if (scene.contact.wall_contact)
+      for (int k = first; k < last; ++k)
+        if (wall_contact(radius, wall_settings, node_weight(k), position(u1, k), vel0(k), c_vel, cc))
+          {
+            add_contact({k});
+            e.node_contact_force[k] += cc.normal_force;
+            ++e.n_wall;
+          }
+    if (scene.contact.self_contact)
+      {
+        const int last_segment = last + 1 - 2; // nodes [first - 1, last + 1)
+        for (const auto &pr : broad.candidates())
+          {
+            const int i = pr.i, j = pr.j;
+            const std::array<Vec2, 4> x{{position(u1, i), position(u1, i + 1), position(u1, j), position(u1, j + 1)}};
+            const auto cp = contact::closest_points(x[0], x[1], x[2], x[3]);
+            if (cp.distance >= diameter)
+              continue;
+            if ((cp.s >= 1.0 && i < last_segment && j - (i + 1) > exclusion) || (cp.t >= 1.0 && j < last_segment))
+              continue;
+            const double weight = 0.5 * (node_S[i + 1] - node_S[i] + node_S[j + 1] - node_S[j]);
+            const std::array<Vec2, 4> w0{{vel0(i), vel0(i + 1), vel0(j), vel0(j + 1)}};
+            if (segment_contact(self_settings, weight, x, w0, c_vel, cc))
+              {
+                add_contact({i, i + 1, j, j + 1});
+                e.node_contact_force[i] += (1.0 - cp.s) * cc.normal_force;
+                e.node_contact_force[i + 1] += cp.s * cc.normal_force;
+                e.node_contact_force[j] += (1.0 - cp.t) * cc.normal_force;
+                e.node_contact_force[j + 1] += cp.t * cc.normal_force;
+                e.pairs.push_back({i, j, cp.s, cp.t, cc.normal_force});
+              }
+            else
+              e.max_overlap = std::max(e.max_overlap, cc.overlap);
+          }
+      }
+    if (want_tangent)
+      K.compress(dealii::VectorOperation::add);
+  }
+
+  double RodModel::Impl::kinetic_energy(const dealii::Vector<double> &vel, const int first, const int last) const
+  {
+    if (!inertia)
+      return 0.0;
+    double ek = 0;
+    const unsigned int nd = n_local;
+    for (unsigned int c = 0; c < n_cells; ++c)
+      {
+        if (!cell_active(c, first, last))
+          continue;
+        for (unsigned int i = 0; i < nd; ++i)
+          for (unsigned int j = 0; j < nd; ++j)
+            ek += 0.5 * vel[3 * cell_node[c][i / 3] + i % 3] * element_mass[i * nd + j] *
+                  vel[3 * cell_node[c][j / 3] + j % 3];
+      }
+    return ek;
+  }
+
+  bool RodModel::Impl::solve_step(const double step)
+  {
+    const double t1 = t + step;
+    int first, last;
+    free_range(t1, first, last);
+    const unsigned int n = u.size();
+    // Predictor: constant acceleration for the free dofs, the channel motion
+    // for the prescribed ones.
+    dealii::Vector<double> u1(u), v1(n), a1(n), v0(n), a_blend(n);
+    for (unsigned int i = 0; i < n; ++i)
+      u1[i] = u[i] + step * v[i] + 0.5 * step * step * a[i];
+    prescribe(t1, u1, nullptr, nullptr, first, last);
+    // v1 = c u1 + v0 and a1 = (u1 - u_hat) / (beta step^2).
+    const double c_vel = inertia ? gamma / (beta * step) : 1.0 / step;
+    dealii::Vector<double> u_hat(n);
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        u_hat[i] = u[i] + step * v[i] + step * step * (0.5 - beta) * a[i];
+        v0[i] = inertia ? v[i] + step * (1.0 - gamma) * a[i] - c_vel * u_hat[i] : -u[i] / step;
+      }
+    auto kinematics = [&]() {
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          a1[i] = inertia ? (u1[i] - u_hat[i]) / (beta * step * step) : 0.0;
+          v1[i] = c_vel * u1[i] + v0[i];
+          a_blend[i] = (1.0 - alpha_m) * a1[i] + alpha_m * a[i];
+        }
+    };
+    const double c_mass = inertia ? (1.0 - alpha_m) / (beta * step * step) : 0.0;
+    const double c_force = 1.0 - alpha_f;
+    const double scale = scene.wire.axial_stiffness;
+    const double tol = scene.fem.newton_tolerance * scale;
+    const int lo = 3 * first, nw = 3 * (last - first);
+    auto residual_norm = [&](const Evaluation &ev) -> double {
+      double r = 0;
+      for (int i = 0; i < nw; ++i)
+        {
+          const double ri = ev.residual[lo + i] + alpha_f * f_old[lo + i];
+          if (!std::isfinite(ri))
+            return INFINITY;
+          r = std::max(r, std::abs(ri));
+        }
+      return r;
+    };
+
+    {
+      dealii::TimerOutput::Scope ts(timer, "contact search");
+      std::vector<Vec2> x(n_nodes);
+      for (unsigned int k = 0; k < n_nodes; ++k)
+        x[k] = position(u, k);
+      broad.update(x, first - 1, last + 1);
+    }
+
+    history.clear();
+    Evaluation e, trial;
+    dealii::Vector<double> rhs(nw), dx(nw);
+    dealii::SolverControl control(1, 0);
+    dealii::TrilinosWrappers::SolverDirect solver(control);
+    kinematics();
+    evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, e);
+    double res = residual_norm(e);
+    history.push_back(res);
+    for (unsigned int it = 0; it < scene.fem.maximum_iterations; ++it)
+      {
+        if (res <= tol)
+          {
+            for (unsigned int i = 0; i < n; ++i)
+              e.residual[i] += alpha_f * f_old[i];
+            commit(step, first, last, u1, v1, a1, e);
+            return true;
+          }
+        if (!std::isfinite(res))
+          return false;
+        for (int i = 0; i < nw; ++i)
+          rhs[i] = -(e.residual[lo + i] + alpha_f * f_old[lo + i]);
+        try
+          {
+            dealii::TimerOutput::Scope ts(timer, "linear solve");
+            solver.solve(K, dx, rhs);
+          }
+        catch (const std::exception &)
+          {
+            return false;
+          }
+        // Backtracking line search on the residual norm.
+        double lambda = 1.0;
+        const dealii::Vector<double> u_start(u1);
+        for (int ls = 0; ls < 6; ++ls)
+          {
+            for (int i = 0; i < nw; ++i)
+              u1[lo + i] = u_start[lo + i] + lambda * dx[i];
+            kinematics();
+            evaluate(u1, a_blend, step, c_vel, v0, first, last, false, c_mass, c_force, c_force, trial);
+            const double r_new = residual_norm(trial);
+            if (r_new < (1.0 - 1e-4 * lambda) * res || ls == 5)
+              {
+                res = r_new;
+                break;
+              }
+            lambda *= 0.5;
+          }
+        // Tangent at the accepted iterate (the residual is recomputed with it).
+        evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, e);
+        res = residual_norm(e);
+        history.push_back(res);
+      }
+    return false;
+  }
+
+  void RodModel::Impl::commit(const double step, const int first, const int last, const dealii::Vector<double> &u1,
+                              const dealii::Vector<double> &v1, const dealii::Vector<double> &a1, Evaluation &e)
+  {
+    const unsigned int n = u.size();
+    // Wire that entered the system this step brings its kinetic energy.
+    if (first < first_free || last > last_free)
+      {
+        double before = 0;
+        for (unsigned int c = 0; c < n_cells; ++c)
+          if (cell_active(c, first, last) && !cell_active(c, first_free, last_free) && inertia)
+            {
+              const unsigned int nd = n_local;
+              for (unsigned int i = 0; i < nd; ++i)
+                for (unsigned int j = 0; j < nd; ++j)
+                  before += 0.5 * v[3 * cell_node[c][i / 3] + i % 3] * element_mass[i * nd + j] *
+                            v[3 * cell_node[c][j / 3] + j % 3];
+            }
+        ledger.injection_work += before;
+      }
+    // Channel work: reactions at the prescribed dofs of the active cells.
+    std::vector<char> counted(n_nodes, 0);
+    double work[2] = {0, 0};
+    for (unsigned int c = 0; c < n_cells; ++c)
+      if (cell_active(c, first, last))
+        for (const auto k : cell_node[c])
+          {
+            const int ki = static_cast<int>(k);
+            if ((ki >= first && ki < last) || counted[k])
+              continue;
+            counted[k] = 1;
+            double w = 0;
+            for (unsigned int cc = 0; cc < 3; ++cc)
+              w += e.residual[3 * k + cc] * (u1[3 * k + cc] - u[3 * k + cc]);
+            work[ki < first ? 0 : 1] += w;
+          }
+    const double du = channels.injected_per_channel(t + step) - channels.injected_per_channel(t);
+    for (int side = 0; side < 2; ++side)
+      {
+        ledger.injection_work += work[side];
+        window[side].add(du, work[side]);
+      }
+    // Friction: work of the (blended) friction forces against the motion.
+    double friction = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      friction += ((1.0 - alpha_f) * e.friction[i] + alpha_f * friction_old[i]) * (u1[i] - u[i]);
+    ledger.friction += friction;
+    ledger.plastic += e.plastic;
+    ledger.damping += e.viscous;
+    ledger.stretching = e.axial;
+    ledger.shear = e.shear;
+    ledger.bending = e.bending;
+    ledger.contact = e.contact;
+    ledger.kinetic = kinetic_energy(v1, first, last);
+    last_report = {e.max_overlap, static_cast<int>(e.pairs.size()), e.n_wall};
+
+    u = u1;
+    v = v1;
+    a = a1;
+    f_old = e.force;
+    friction_old = e.friction;
+    qp = e.state;
+    t += step;
+    ++steps;
+    first_free = first;
+    last_free = last;
+    latest = std::move(e);
+  }
+
+  RodModel::RodModel(const scene::Scene &scene)
+    : impl(std::make_unique<Impl>(scene))
+  {
+  }
+
+  RodModel::~RodModel() = default;
+
+  std::string RodModel::description() const
+  {
+    const auto &s = impl->scene.fem;
+    return fmt::format("{} rod, degree {}, h = {}, {} dofs, generalized-alpha rho = {}, dt <= {:.4g}",
+                       s.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner", s.degree,
+                       s.element_length, impl->dof_handler.n_dofs(),
+                       s.integrator == scene::Integrator::quasi_static ? -1.0 : s.spectral_radius, impl->dt_max);
+  }
+
+  void RodModel::step()
+  {
+    auto &m = *impl;
+    double step = m.dt;
+    while (true)
+      {
+        bool ok = false;
+        try
+          {
+            ok = m.solve_step(step);
+          }
+        catch (const dealii::ExceptionBase &)
+          {
+            ok = false;
+          }
+        if (ok)
+          break;
+        ++m.cuts;
+        step *= 0.5;
+        if (step < m.scene.fem.minimum_time_step)
+          throw std::runtime_error(fmt::format(
+              "Newton did not converge at t = {:.6g} even with the time step cut to {:.3g} (below FEM/Minimum "
+              "time step {:.3g}); last residual {:.3g}",
+              m.t, 2.0 * step, m.scene.fem.minimum_time_step, m.history.empty() ? NAN : m.history.back()));
+      }
+    // Grow the step again when Newton had an easy time.
+    m.dt = m.history.size() <= 4 ? std::min(m.dt_max, 1.5 * step) : step;
+  }
+
+  double RodModel::time() const { return impl->t; }
+  double RodModel::time_step() const { return impl->dt; }
+  unsigned long RodModel::n_steps() const { return impl->steps; }
+  double RodModel::injected_length() const { return impl->channels.injected_length(impl->t); }
+  double RodModel::force_left() const { return impl->window[0].mean(); }
+  double RodModel::force_right() const { return impl->window[1].mean(); }
+  const simulation::EnergyLedger &RodModel::energies() const { return impl->ledger; }
+  simulation::StepReport RodModel::report() const { return impl->last_report; }
+  const std::vector<std::string> &RodModel::active_effects() const { return impl->effects; }
+  const std::vector<double> &RodModel::newton_history() const { return impl->history; }
+  unsigned long RodModel::n_step_cuts() const { return impl->cuts; }
+  unsigned int RodModel::n_dofs() const { return impl->dof_handler.n_dofs(); }
+
+  bool RodModel::finite() const
+  {
+    for (int i = 3 * impl->first_free; i < 3 * impl->last_free; ++i)
+      if (!std::isfinite(impl->u[i]) || !std::isfinite(impl->v[i]))
+        return false;
+    return true;
+  }
+
+  analysis::WireState RodModel::wire_state() const
+  {
+    const auto &m = *impl;
+    analysis::WireState w;
+    w.diameter = m.diameter;
+    w.cavity_radius = m.radius;
+    w.time = m.t;
+    w.injected_length = injected_length();
+    // The inlets, and the free nodes between them.
+    const double s0 = m.left_inlet_S(m.t);
+    const int k0 = m.first_free, k1 = m.last_free;
+    const int n = k1 - k0 + 2;
+    w.points.resize(n);
+    w.arc_length.resize(n);
+    w.curvature.assign(n, 0.0);
+    w.plastic_curvature.assign(n, 0.0);
+    w.bending_energy.assign(n, 0.0);
+    w.contact_force.assign(n, 0.0);
+    w.points[0] = m.channels.inlet(Side::left);
+    w.points[n - 1] = m.channels.inlet(Side::right);
+    w.arc_length[n - 1] = injected_length();
+    const double EI = m.scene.wire.bending_stiffness;
+    // Curvature and plastic curvature at a node: mean over the quadrature
+    // points of the elements around it.
+    std::vector<double> kappa(m.n_nodes, 0.0), kappa_p(m.n_nodes, 0.0), count(m.n_nodes, 0.0);
+    const unsigned int nq = m.stiffness_shape.n_q;
+    for (unsigned int c = 0; c < m.n_cells; ++c)
+      if (m.cell_active(c, k0, k1))
+        for (const auto k : m.cell_node[c])
+          for (unsigned int q = 0; q < nq; ++q)
+            {
+              kappa[k] += m.qp[c * nq + q].curvature;
+              kappa_p[k] += m.qp[c * nq + q].plastic.plastic_strain;
+              count[k] += 1.0;
+            }
+    for (int k = k0; k < k1; ++k)
+      {
+        const int i = k - k0 + 1;
+        w.points[i] = m.position(m.u, k);
+        w.arc_length[i] = m.node_S[k] - s0;
+        if (count[k] > 0)
+          {
+            w.curvature[i] = kappa[k] / count[k];
+            w.plastic_curvature[i] = kappa_p[k] / count[k];
+          }
+        const double ke = w.curvature[i] - w.plastic_curvature[i];
+        w.bending_energy[i] = 0.5 * EI * ke * ke * m.node_weight(k);
+        if (!m.latest.node_contact_force.empty())
+          w.contact_force[i] = m.latest.node_contact_force[k];
+      }
+    auto point_of = [&](int k, double s) {
+      return std::clamp(static_cast<int>(std::lround(k - k0 + 1 + s)), 0, n - 1);
+    };
+    for (const auto &pr : m.latest.pairs)
+      {
+        analysis::SelfContact sc;
+        sc.s_a = m.node_S[pr.i] + pr.s * (m.node_S[pr.i + 1] - m.node_S[pr.i]) - s0;
+        sc.s_b = m.node_S[pr.j] + pr.t * (m.node_S[pr.j + 1] - m.node_S[pr.j]) - s0;
+        sc.point_a = point_of(pr.i, pr.s);
+        sc.point_b = point_of(pr.j, pr.t);
+        sc.x_a = (1.0 - pr.s) * m.position(m.u, pr.i) + pr.s * m.position(m.u, pr.i + 1);
+        sc.x_b = (1.0 - pr.t) * m.position(m.u, pr.j) + pr.t * m.position(m.u, pr.j + 1);
+        sc.normal_force = pr.fn;
+        w.self_contacts.push_back(sc);
+      }
+    return w;
+  }
+
+  namespace
+  {
+    void write_dealii_vector(std::ostream &out, const dealii::Vector<double> &x)
+    {
+      const std::vector<double> v(x.begin(), x.end());
+      io::write_vector(out, v, 0, v.size());
+    }
+    void read_dealii_vector(std::istream &in, dealii::Vector<double> &x)
+    {
+      std::vector<double> v(x.size());
+      if (io::peek_vector_size(in) != v.size())
+        throw std::runtime_error("checkpoint does not fit this scene");
+      io::read_vector(in, v);
+      std::copy(v.begin(), v.end(), x.begin());
+    }
+  } // namespace
+
+  void RodModel::save(std::ostream &out) const
+  {
+    const auto &m = *impl;
+    io::write_raw(out, fem_magic);
+    io::write_raw(out, static_cast<std::uint64_t>(m.u.size()));
+    for (const auto *x : {&m.u, &m.v, &m.a, &m.f_old, &m.friction_old})
+      write_dealii_vector(out, *x);
+    io::write_vector(out, m.qp, 0, m.qp.size());
+    io::write_raw(out, m.t);
+    io::write_raw(out, m.dt);
+    io::write_raw(out, m.steps);
+    io::write_raw(out, m.cuts);
+    io::write_raw(out, m.first_free);
+    io::write_raw(out, m.last_free);
+    io::write_raw(out, m.ledger);
+    for (const auto &w : m.window)
+      {
+        io::write_raw(out, w.injected);
+        io::write_raw(out, w.work);
+        const std::vector<std::pair<double, double>> steps(w.steps.begin(), w.steps.end());
+        io::write_vector(out, steps, 0, steps.size());
+      }
+  }
+
+  void RodModel::load(std::istream &in)
+  {
+    auto &m = *impl;
+    if (io::read_raw<std::uint64_t>(in) != fem_magic)
+      throw std::runtime_error("not a checkpoint of the FEM model");
+    if (io::read_raw<std::uint64_t>(in) != m.u.size())
+      throw std::runtime_error("checkpoint does not fit this scene");
+    for (auto *x : {&m.u, &m.v, &m.a, &m.f_old, &m.friction_old})
+      read_dealii_vector(in, *x);
+    if (io::peek_vector_size(in) != m.qp.size())
+      throw std::runtime_error("checkpoint does not fit this scene");
+    io::read_vector(in, m.qp);
+    m.t = io::read_raw<double>(in);
+    m.dt = io::read_raw<double>(in);
+    m.steps = io::read_raw<unsigned long>(in);
+    m.cuts = io::read_raw<unsigned long>(in);
+    m.first_free = io::read_raw<int>(in);
+    m.last_free = io::read_raw<int>(in);
+    m.ledger = io::read_raw<simulation::EnergyLedger>(in);
+    for (auto &w : m.window)
+      {
+        w.injected = io::read_raw<double>(in);
+        w.work = io::read_raw<double>(in);
+        std::vector<std::pair<double, double>> steps(io::peek_vector_size(in));
+        io::read_vector(in, steps);
+        w.steps.assign(steps.begin(), steps.end());
+      }
+    m.broad.invalidate();
+  }
+
+  void RodModel::print_timing(std::ostream &out) const
+  {
+    impl->timer.print_summary();
+    out << impl->timer_stream.str();
+    impl->timer_stream.str("");
+    out << fmt::format("Newton step cuts: {}\n", impl->cuts);
+  }
+} // namespace wirefem::fem

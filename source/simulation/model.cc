@@ -1,0 +1,13 @@
+#include <wirefem/discrete/chain_model.h>
+#include <wirefem/fem/rod_model.h>
+#include <wirefem/simulation/model.h>
+
+namespace wirefem::simulation
+{
+  std::unique_ptr<Model> make_model(const scene::Scene &scene)
+  {
+    if (scene.model == scene::ModelType::fem)
+      return std::make_unique<fem::RodModel>(scene);
+    return std::make_unique<discrete::ChainModel>(scene);
+  }
+} // namespace wirefem::simulation
