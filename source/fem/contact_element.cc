@@ -32,20 +32,21 @@ namespace wirefem::fem
       return -mu * fn * tanh(vt / vth);
     }
 
-    void to_dense(const int n_dofs, const Fad *r, const Fad *rf, ContactContribution &out)
+    void to_dense(const int n_dofs, const Fad *r, const Fad *rf, const double friction_scale,
+                  ContactContribution &out)
     {
       for (int i = 0; i < n_dofs; ++i)
         {
           out.residual[i] = r[i].val();
           out.friction_residual[i] = rf[i].val();
           for (int j = 0; j < n_dofs; ++j)
-            out.tangent[i * n_dofs + j] = r[i].dx(j);
+            out.tangent[i * n_dofs + j] = r[i].dx(j) + (friction_scale - 1.0) * rf[i].dx(j);
         }
     }
   } // namespace
 
   bool wall_contact(const double radius, const ContactSettings &s, const double weight, const Vec2 &x,
-                    const Vec2 &v0, const double c, ContactContribution &out)
+                    const Vec2 &v0, const double c, ContactContribution &out, const double friction_scale)
   {
     const double half_d = 0.5 * s.diameter;
     const double dist = norm(x);
@@ -95,12 +96,13 @@ namespace wirefem::fem
     out.overlap = overlap;
     out.normal_force = fn.val();
     out.energy = 0.5 * k * g.val() * g.val();
-    to_dense(2, r, rf, out);
+    to_dense(2, r, rf, friction_scale, out);
     return true;
   }
 
   bool segment_contact(const ContactSettings &s, const double weight, const std::array<Vec2, 4> &x,
-                       const std::array<Vec2, 4> &v0, const double c, ContactContribution &out)
+                       const std::array<Vec2, 4> &v0, const double c, ContactContribution &out,
+                       const double friction_scale)
   {
     const auto cp = contact::closest_points(x[0], x[1], x[2], x[3]);
     if (cp.distance >= s.diameter)
@@ -169,7 +171,7 @@ namespace wirefem::fem
         out.friction_residual[i] = rf[i].val();
         for (int m = 0; m < 3; ++m)
           for (int cc = 0; cc < 2; ++cc)
-            out.tangent[i * 8 + 2 * ids[m] + cc] = r[i].dx(2 * m + cc);
+            out.tangent[i * 8 + 2 * ids[m] + cc] = r[i].dx(2 * m + cc) + (friction_scale - 1.0) * rf[i].dx(2 * m + cc);
       }
     out.normal_force = fn.val();
     out.energy = 0.5 * k * g.val() * g.val();

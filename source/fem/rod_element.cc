@@ -75,7 +75,7 @@ namespace wirefem::fem
     template <typename T>
     void residual(const ElementShape &shape, const SectionProperties &section,
                   const material::MomentCurvatureLaw &law, const T *u, const PointState *old, const double dt,
-                  T *r, ElementResult *values)
+                  const double viscous_scale, T *r, ElementResult *values)
     {
       const unsigned int n = 3 * shape.n_nodes;
       for (unsigned int i = 0; i < n; ++i)
@@ -90,10 +90,13 @@ namespace wirefem::fem
           T N = section.EA * k.eps;
           const T Q = section.GA * k.gamma;
           const double w = shape.weight[q];
+          T Nv = 0.0, Mv = 0.0;
           if (dt > 0.0)
             {
-              N += section.axial_viscosity / dt * (k.eps - old[q].axial_strain);
-              M += section.bending_viscosity / dt * (k.kappa - old[q].curvature);
+              Nv = section.axial_viscosity / dt * (k.eps - old[q].axial_strain);
+              Mv = section.bending_viscosity / dt * (k.kappa - old[q].curvature);
+              N += viscous_scale * Nv;
+              M += viscous_scale * Mv;
             }
           for (unsigned int a = 0; a < shape.n_nodes; ++a)
             {
@@ -101,6 +104,16 @@ namespace wirefem::fem
               r[3 * a] += w * (N * k.c - Q * k.s) * dNa;
               r[3 * a + 1] += w * (N * k.s + Q * k.c) * dNa;
               r[3 * a + 2] += w * ((N * k.gamma - Q * (1.0 + k.eps)) * Na + M * dNa);
+              if (values && dt > 0.0)
+                {
+                  // The viscous part alone (values are doubles here).
+                  const double nv = Sacado::ScalarValue<T>::eval(Nv), mv = Sacado::ScalarValue<T>::eval(Mv);
+                  const double c = Sacado::ScalarValue<T>::eval(k.c), sn = Sacado::ScalarValue<T>::eval(k.s);
+                  const double g = Sacado::ScalarValue<T>::eval(k.gamma);
+                  values->viscous_residual[3 * a] += w * nv * c * dNa;
+                  values->viscous_residual[3 * a + 1] += w * nv * sn * dNa;
+                  values->viscous_residual[3 * a + 2] += w * (nv * g * Na + mv * dNa);
+                }
             }
           if (values)
             {
@@ -128,13 +141,15 @@ namespace wirefem::fem
 
   void evaluate_rod_element(const ElementShape &shape, const SectionProperties &section,
                             const material::MomentCurvatureLaw &law, const double *dofs,
-                            const PointState *old, const double dt, const bool want_tangent, ElementResult &out)
+                            const PointState *old, const double dt, const bool want_tangent, ElementResult &out,
+                            const double viscous_scale)
   {
     const unsigned int n = 3 * shape.n_nodes;
     out.residual.assign(n, 0.0);
+    out.viscous_residual.assign(n, 0.0);
     out.state.assign(shape.n_q, PointState{});
     out.axial_energy = out.shear_energy = out.bending_energy = out.plastic_work = out.viscous_work = 0.0;
-    residual<double>(shape, section, law, dofs, old, dt, out.residual.data(), &out);
+    residual<double>(shape, section, law, dofs, old, dt, 1.0, out.residual.data(), &out);
     out.tangent.clear();
     if (!want_tangent)
       return;
@@ -142,7 +157,7 @@ namespace wirefem::fem
     std::vector<Fad> u(n), r(n);
     for (unsigned int i = 0; i < n; ++i)
       u[i] = Fad(n, i, dofs[i]);
-    residual<Fad>(shape, section, law, u.data(), old, dt, r.data(), nullptr);
+    residual<Fad>(shape, section, law, u.data(), old, dt, viscous_scale, r.data(), nullptr);
     out.tangent.resize(n * n);
     for (unsigned int i = 0; i < n; ++i)
       for (unsigned int j = 0; j < n; ++j)

@@ -25,6 +25,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <iostream>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -42,8 +44,9 @@ namespace wirefem::fem
     struct Evaluation
     {
       dealii::Vector<double> residual; ///< full, all dofs (reactions at prescribed dofs)
-      dealii::Vector<double> force;    ///< internal + contact forces (unblended), full
-      dealii::Vector<double> friction; ///< friction part of force, full
+      dealii::Vector<double> force;       ///< conservative internal + contact forces, full
+      dealii::Vector<double> dissipative; ///< viscous + friction forces, full
+      dealii::Vector<double> friction;    ///< friction forces, full
       std::vector<PointState> state;   ///< per cell and quadrature point
       std::vector<double> node_contact_force;
       struct Pair
@@ -86,7 +89,7 @@ namespace wirefem::fem
     bool inertia = true;
 
     // State at t_n.
-    dealii::Vector<double> u, v, a, f_old, friction_old;
+    dealii::Vector<double> u, v, a, f_old;
     std::vector<PointState> qp;
     double t = 0, dt = 0, dt_max = 0;
     unsigned long steps = 0, cuts = 0;
@@ -307,7 +310,6 @@ namespace wirefem::fem
     v.reinit(n_dofs);
     a.reinit(n_dofs);
     f_old.reinit(n_dofs);
-    friction_old.reinit(n_dofs);
     qp.assign(n_cells * stiffness_shape.n_q, PointState{});
     free_range(0.0, first_free, last_free);
     prescribe(0.0, u, nullptr, nullptr, first_free, last_free);
@@ -345,8 +347,11 @@ namespace wirefem::fem
         for (unsigned int i = 0; i < x.size(); ++i)
           a[3 * first_free + i] = x[i];
         f_old = e.force;
-        friction_old = e.friction;
       }
+    else
+      evaluate(u, zero, 0.0, 0.0, zero, first_free, last_free, false, 0.0, 1.0, 1.0, e);
+    // The strains of the initial shape are the reference of the first rates.
+    qp = e.state;
   }
 
   void RodModel::Impl::free_range(const double time, int &first, int &last) const
@@ -424,6 +429,7 @@ namespace wirefem::fem
     const unsigned int n_dofs = u1.size();
     e.residual.reinit(n_dofs);
     e.force.reinit(n_dofs);
+    e.dissipative.reinit(n_dofs);
     e.friction.reinit(n_dofs);
     e.state.assign(qp.size(), PointState{});
     e.node_contact_force.assign(n_nodes, 0.0);
@@ -476,15 +482,21 @@ namespace wirefem::fem
                 ue[3 * a_ + cc] = u1[g[3 * a_ + cc]];
               }
           const PointState *old = &qp[c * stiffness_shape.n_q];
-          evaluate_rod_element(stiffness_shape, section, law, ue.data(), old, viscous_dt, want_tangent, er);
+          evaluate_rod_element(stiffness_shape, section, law, ue.data(), old, viscous_dt, want_tangent, er,
+                               c_force > 0 ? 1.0 / c_force : 1.0);
           for (unsigned int i = 0; i < nd; ++i)
             {
-              e.force[g[i]] += er.residual[i];
+              // Elastic forces are blended over the step, the dissipative
+              // (viscous) ones act at the end of it: their work is exactly
+              // the dissipation the ledger records.
+              const double elastic = er.residual[i] - er.viscous_residual[i];
+              e.force[g[i]] += elastic;
+              e.dissipative[g[i]] += er.viscous_residual[i];
               double inertial = 0;
-              if (c_mass > 0 || inertia)
+              if (inertia)
                 for (unsigned int j = 0; j < nd; ++j)
                   inertial += element_mass[i * nd + j] * a_blend[g[j]];
-              e.residual[g[i]] += blend_force * er.residual[i] + (inertia ? inertial : 0.0);
+              e.residual[g[i]] += blend_force * elastic + er.viscous_residual[i] + inertial;
             }
           if (want_tangent)
             {
@@ -513,9 +525,11 @@ namespace wirefem::fem
         }
       for (unsigned int i = 0; i < g.size(); ++i)
         {
-          e.force[g[i]] += cc.residual[i];
+          const double normal = cc.residual[i] - cc.friction_residual[i];
+          e.force[g[i]] += normal;
           e.friction[g[i]] += cc.friction_residual[i];
-          e.residual[g[i]] += blend_force * cc.residual[i];
+          e.dissipative[g[i]] += cc.friction_residual[i];
+          e.residual[g[i]] += blend_force * normal + cc.friction_residual[i];
         }
       if (want_tangent)
         add_matrix(g, cc.tangent.data(), c_force);
@@ -525,7 +539,8 @@ namespace wirefem::fem
     auto vel0 = [&](int k) { return Vec2{v0[3 * k], v0[3 * k + 1]}; };
     if (scene.contact.wall_contact)
       for (int k = first; k < last; ++k)
-        if (wall_contact(radius, wall_settings, node_weight(k), position(u1, k), vel0(k), c_vel, cc))
+        if (wall_contact(radius, wall_settings, node_weight(k), position(u1, k), vel0(k), c_vel, cc,
+                         c_force > 0 ? 1.0 / c_force : 1.0))
           {
             add_contact({k});
             e.node_contact_force[k] += cc.normal_force;
@@ -545,7 +560,7 @@ namespace wirefem::fem
               continue;
             const double weight = 0.5 * (node_S[i + 1] - node_S[i] + node_S[j + 1] - node_S[j]);
             const std::array<Vec2, 4> w0{{vel0(i), vel0(i + 1), vel0(j), vel0(j + 1)}};
-            if (segment_contact(self_settings, weight, x, w0, c_vel, cc))
+            if (segment_contact(self_settings, weight, x, w0, c_vel, cc, c_force > 0 ? 1.0 / c_force : 1.0))
               {
                 add_contact({i, i + 1, j, j + 1});
                 e.node_contact_force[i] += (1.0 - cp.s) * cc.normal_force;
@@ -664,26 +679,36 @@ namespace wirefem::fem
           {
             return false;
           }
-        // Backtracking line search on the residual norm.
-        double lambda = 1.0;
+        // Full Newton update, with the tangent there; if the residual does
+        // not drop, backtrack (Armijo on the max norm) and re-linearise.
         const dealii::Vector<double> u_start(u1);
-        for (int ls = 0; ls < 6; ++ls)
+        double lambda = 1.0;
+        for (int i = 0; i < nw; ++i)
+          u1[lo + i] = u_start[lo + i] + dx[i];
+        kinematics();
+        evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, trial);
+        double r_new = residual_norm(trial);
+        if (r_new < (1.0 - 1e-4) * res)
           {
-            for (int i = 0; i < nw; ++i)
-              u1[lo + i] = u_start[lo + i] + lambda * dx[i];
-            kinematics();
-            evaluate(u1, a_blend, step, c_vel, v0, first, last, false, c_mass, c_force, c_force, trial);
-            const double r_new = residual_norm(trial);
-            if (r_new < (1.0 - 1e-4 * lambda) * res || ls == 5)
-              {
-                res = r_new;
-                break;
-              }
-            lambda *= 0.5;
+            std::swap(e, trial);
+            res = r_new;
           }
-        // Tangent at the accepted iterate (the residual is recomputed with it).
-        evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, e);
-        res = residual_norm(e);
+        else
+          {
+            for (int ls = 0; ls < 5; ++ls)
+              {
+                lambda *= 0.5;
+                for (int i = 0; i < nw; ++i)
+                  u1[lo + i] = u_start[lo + i] + lambda * dx[i];
+                kinematics();
+                evaluate(u1, a_blend, step, c_vel, v0, first, last, false, c_mass, c_force, c_force, trial);
+                r_new = residual_norm(trial);
+                if (r_new < (1.0 - 1e-4 * lambda) * res)
+                  break;
+              }
+            evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, e);
+            res = residual_norm(e);
+          }
         history.push_back(res);
       }
     return false;
@@ -730,10 +755,10 @@ namespace wirefem::fem
         ledger.injection_work += work[side];
         window[side].add(du, work[side]);
       }
-    // Friction: work of the (blended) friction forces against the motion.
+    // Friction: work of the friction forces (at the end of the step) against the motion.
     double friction = 0;
     for (unsigned int i = 0; i < n; ++i)
-      friction += ((1.0 - alpha_f) * e.friction[i] + alpha_f * friction_old[i]) * (u1[i] - u[i]);
+      friction += e.friction[i] * (u1[i] - u[i]);
     ledger.friction += friction;
     ledger.plastic += e.plastic;
     ledger.damping += e.viscous;
@@ -748,7 +773,6 @@ namespace wirefem::fem
     v = v1;
     a = a1;
     f_old = e.force;
-    friction_old = e.friction;
     qp = e.state;
     t += step;
     ++steps;
@@ -791,6 +815,13 @@ namespace wirefem::fem
         if (ok)
           break;
         ++m.cuts;
+        if (std::getenv("WIREFEM_NEWTON_LOG"))
+          {
+            std::string h;
+            for (const double r : m.history)
+              h += fmt::format(" {:.2e}", r);
+            std::cerr << fmt::format("t = {:.5g}: step {:.3g} cut; residuals{}\n", m.t, step, h);
+          }
         step *= 0.5;
         if (step < m.scene.fem.minimum_time_step)
           throw std::runtime_error(fmt::format(
@@ -913,7 +944,7 @@ namespace wirefem::fem
     const auto &m = *impl;
     io::write_raw(out, fem_magic);
     io::write_raw(out, static_cast<std::uint64_t>(m.u.size()));
-    for (const auto *x : {&m.u, &m.v, &m.a, &m.f_old, &m.friction_old})
+    for (const auto *x : {&m.u, &m.v, &m.a, &m.f_old})
       write_dealii_vector(out, *x);
     io::write_vector(out, m.qp, 0, m.qp.size());
     io::write_raw(out, m.t);
@@ -939,7 +970,7 @@ namespace wirefem::fem
       throw std::runtime_error("not a checkpoint of the FEM model");
     if (io::read_raw<std::uint64_t>(in) != m.u.size())
       throw std::runtime_error("checkpoint does not fit this scene");
-    for (auto *x : {&m.u, &m.v, &m.a, &m.f_old, &m.friction_old})
+    for (auto *x : {&m.u, &m.v, &m.a, &m.f_old})
       read_dealii_vector(in, *x);
     if (io::peek_vector_size(in) != m.qp.size())
       throw std::runtime_error("checkpoint does not fit this scene");

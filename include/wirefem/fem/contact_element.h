@@ -18,6 +18,8 @@
 // Residual convention: the returned vector is the contact's contribution to
 // the internal force (minus the force on the nodes), and the tangent its
 // derivative with respect to the node coordinates (x0, y0, x1, y1, ...).
+// friction_scale weights the friction part in the tangent only (for time
+// integrators that blend conservative forces but not dissipative ones).
 #pragma once
 
 #include <wirefem/geometry/vec2.h>
@@ -42,7 +44,8 @@ namespace wirefem::fem
     int n_points = 0;
     std::array<double, 8> residual{};         ///< normal + friction
     std::array<double, 8> friction_residual{}; ///< the friction part of residual
-    std::array<double, 64> tangent{};          ///< d residual / d x, row major, 2 n_points square
+    /// d (residual + (friction_scale - 1) friction_residual) / d x, row major, 2 n_points square
+    std::array<double, 64> tangent{};
     double overlap = 0.0;
     double normal_force = 0.0;
     double energy = 0.0; ///< 1/2 k w g^2
@@ -52,12 +55,13 @@ namespace wirefem::fem
   /// (the channels), where the corners of the openings are the contact.
   /// Returns false when the point does not touch.
   bool wall_contact(double radius, const ContactSettings &s, double weight, const geometry::Vec2 &x,
-                    const geometry::Vec2 &v0, double c, ContactContribution &out);
+                    const geometry::Vec2 &v0, double c, ContactContribution &out, double friction_scale = 1.0);
 
   /// Segment a0-a1 against segment b0-b1 (points 0..3 in that order). In the
   /// plane the closest points of two segments that do not cross always
   /// involve an end point; the case is chosen from the current positions.
   /// Returns false when they are farther apart than d (or cross).
   bool segment_contact(const ContactSettings &s, double weight, const std::array<geometry::Vec2, 4> &x,
-                       const std::array<geometry::Vec2, 4> &v0, double c, ContactContribution &out);
+                       const std::array<geometry::Vec2, 4> &v0, double c, ContactContribution &out,
+                       double friction_scale = 1.0);
 } // namespace wirefem::fem

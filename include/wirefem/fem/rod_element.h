@@ -69,8 +69,10 @@ namespace wirefem::fem
 
   struct ElementResult
   {
-    std::vector<double> residual; ///< internal force, 3 n_nodes
-    std::vector<double> tangent;  ///< d residual / d dofs, row major, empty if not asked for
+    std::vector<double> residual;         ///< internal force (elastic + viscous), 3 n_nodes
+    std::vector<double> viscous_residual; ///< the viscous part of residual
+    /// d (residual + (viscous_scale - 1) viscous_residual) / d dofs, row major; empty if not asked for
+    std::vector<double> tangent;
     double axial_energy = 0.0;
     double shear_energy = 0.0;
     double bending_energy = 0.0; ///< elastic part 1/2 EI (kappa - kappa_p)^2
@@ -80,10 +82,14 @@ namespace wirefem::fem
   };
 
   /// Evaluates one element. dofs: 3 n_nodes values; old: n_q committed states;
-  /// dt > 0 enables the viscous dashpots (dt <= 0: none).
+  /// dt > 0 enables the viscous dashpots (dt <= 0: none). viscous_scale
+  /// weights the viscous part in the tangent only (a time integrator that
+  /// blends elastic forces but not dissipative ones needs them weighted
+  /// differently).
   void evaluate_rod_element(const ElementShape &shape, const SectionProperties &section,
                             const material::MomentCurvatureLaw &law, const double *dofs,
-                            const PointState *old, double dt, bool want_tangent, ElementResult &out);
+                            const PointState *old, double dt, bool want_tangent, ElementResult &out,
+                            double viscous_scale = 1.0);
 
   /// Stored elastic energy of the element for the given dofs and fixed
   /// plastic strains (no return mapping): the potential of the residual in

@@ -1,0 +1,415 @@
+// The rod FEM: element residual against finite differences of its energy,
+// tangents against finite differences of the residual (with and without
+// plasticity, viscosity and contact), rigid-body rotation, locking at
+// slenderness 1e4, friction stick and slip, Newton convergence and the
+// energy balance of a small run.
+#include <wirefem/fem/contact_element.h>
+#include <wirefem/fem/rod_element.h>
+#include <wirefem/fem/rod_model.h>
+#include <wirefem/scene/scene_reader.h>
+
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace
+{
+  using namespace wirefem;
+  using geometry::Vec2;
+
+  material::MomentCurvatureLaw plastic_law(double yield = 0.01)
+  {
+    return material::MomentCurvatureLaw(60.0, yield, 0.1, scene::Hardening::kinematic);
+  }
+
+  fem::SectionProperties section(double eta_a = 0.0, double eta_b = 0.0)
+  {
+    fem::SectionProperties s;
+    s.EA = 1000.0;
+    s.GA = 346.0;
+    s.axial_viscosity = eta_a;
+    s.bending_viscosity = eta_b;
+    return s;
+  }
+
+  // A curved, stretched element: x = S + noise, y and theta small waves.
+  std::vector<double> random_dofs(const fem::ElementShape &shape, std::mt19937 &gen, double amp = 0.05)
+  {
+    std::uniform_real_distribution<double> u(-amp, amp);
+    std::vector<double> d(3 * shape.n_nodes);
+    for (unsigned int a = 0; a < shape.n_nodes; ++a)
+      {
+        d[3 * a] = shape.node_position[a] * shape.length + u(gen);
+        d[3 * a + 1] = u(gen);
+        d[3 * a + 2] = 3.0 * u(gen);
+      }
+    return d;
+  }
+
+  std::vector<fem::PointState> random_states(unsigned int n, std::mt19937 &gen)
+  {
+    std::uniform_real_distribution<double> u(-0.05, 0.05);
+    std::vector<fem::PointState> s(n);
+    for (auto &p : s)
+      {
+        p.plastic.plastic_strain = u(gen);
+        p.axial_strain = 0.1 * u(gen);
+        p.curvature = u(gen);
+      }
+    return s;
+  }
+
+  TEST(RodElement, ResidualIsTheGradientOfTheEnergy)
+  {
+    std::mt19937 gen(3);
+    // Elastic range with a non-zero plastic strain: yield far away.
+    const auto law = plastic_law(10.0);
+    for (unsigned int p = 1; p <= 3; ++p)
+      for (const unsigned int nq : {p, p + 1})
+        {
+          const auto shape = fem::ElementShape::lagrange(p, 1.3, nq);
+          const auto dofs = random_dofs(shape, gen);
+          const auto old = random_states(nq, gen);
+          fem::ElementResult r;
+          fem::evaluate_rod_element(shape, section(), law, dofs.data(), old.data(), 0.0, false, r);
+          double worst = 0, scale = 0;
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            {
+              const double h = 1e-6;
+              auto plus = dofs, minus = dofs;
+              plus[i] += h;
+              minus[i] -= h;
+              const double fd = (fem::rod_element_energy(shape, section(), law, plus.data(), old.data()) -
+                                 fem::rod_element_energy(shape, section(), law, minus.data(), old.data())) /
+                                (2 * h);
+              worst = std::max(worst, std::abs(fd - r.residual[i]));
+              scale = std::max(scale, std::abs(r.residual[i]));
+            }
+          EXPECT_GT(scale, 1.0) << "degenerate test state";
+          EXPECT_LT(worst, 1e-6 * scale) << "p = " << p << ", n_q = " << nq;
+        }
+  }
+
+  void expect_tangent_matches_residual(const fem::ElementShape &shape, const material::MomentCurvatureLaw &law,
+                                       const fem::SectionProperties &sec, const double dt,
+                                       const std::vector<double> &dofs, const std::vector<fem::PointState> &old)
+  {
+    fem::ElementResult r, rp, rm;
+    fem::evaluate_rod_element(shape, sec, law, dofs.data(), old.data(), dt, true, r);
+    const unsigned int n = dofs.size();
+    double worst = 0, scale = 0;
+    for (unsigned int j = 0; j < n; ++j)
+      {
+        const double h = 1e-7;
+        auto plus = dofs, minus = dofs;
+        plus[j] += h;
+        minus[j] -= h;
+        fem::evaluate_rod_element(shape, sec, law, plus.data(), old.data(), dt, false, rp);
+        fem::evaluate_rod_element(shape, sec, law, minus.data(), old.data(), dt, false, rm);
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const double fd = (rp.residual[i] - rm.residual[i]) / (2 * h);
+            worst = std::max(worst, std::abs(fd - r.tangent[i * n + j]));
+            scale = std::max(scale, std::abs(r.tangent[i * n + j]));
+          }
+      }
+    EXPECT_LT(worst, 1e-6 * scale) << "degree " << shape.n_nodes - 1;
+  }
+
+  TEST(RodElement, TangentIsTheDerivativeOfTheResidual)
+  {
+    std::mt19937 gen(5);
+    for (unsigned int p = 1; p <= 3; ++p)
+      {
+        const auto shape = fem::ElementShape::lagrange(p, 0.8, p);
+        const auto dofs = random_dofs(shape, gen);
+        const auto old = random_states(p, gen);
+        // Elastic; elastoplastic with yielding; with the viscous dashpots.
+        expect_tangent_matches_residual(shape, material::MomentCurvatureLaw(60.0), section(), 0.0, dofs, old);
+        const auto law = plastic_law(0.01);
+        fem::ElementResult r;
+        fem::evaluate_rod_element(shape, section(), law, dofs.data(), old.data(), 0.0, false, r);
+        EXPECT_GT(r.plastic_work, 0.0) << "the plastic case does not yield";
+        expect_tangent_matches_residual(shape, law, section(), 0.0, dofs, old);
+        expect_tangent_matches_residual(shape, law, section(3.0, 0.5), 0.05, dofs, old);
+      }
+  }
+
+  TEST(RodElement, RigidRotationBy90DegreesGivesNoStrainAndNoForce)
+  {
+    for (unsigned int p = 1; p <= 3; ++p)
+      {
+        const auto shape = fem::ElementShape::lagrange(p, 2.0, p);
+        std::vector<double> dofs(3 * shape.n_nodes);
+        for (unsigned int a = 0; a < shape.n_nodes; ++a)
+          {
+            const double S = shape.node_position[a] * shape.length;
+            // (S, 0) rotated by 90 degrees and moved: (3 - 0, 7 + S), theta = pi/2.
+            dofs[3 * a] = 3.0;
+            dofs[3 * a + 1] = 7.0 + S;
+            dofs[3 * a + 2] = M_PI / 2;
+          }
+        const std::vector<fem::PointState> old(p);
+        fem::ElementResult r;
+        fem::evaluate_rod_element(shape, section(), plastic_law(), dofs.data(), old.data(), 0.0, false, r);
+        for (const double f : r.residual)
+          EXPECT_NEAR(f, 0.0, 1e-10);
+        for (const auto &s : r.state)
+          {
+            EXPECT_NEAR(s.axial_strain, 0.0, 1e-14);
+            EXPECT_NEAR(s.shear_strain, 0.0, 1e-14);
+            EXPECT_NEAR(s.curvature, 0.0, 1e-14);
+          }
+        EXPECT_NEAR(r.axial_energy + r.shear_energy + r.bending_energy, 0.0, 1e-20);
+      }
+  }
+
+  // Cantilever clamped at S = 0 with a transverse tip load, solved
+  // statically by Newton on the element kernel. Returns the tip deflection.
+  double cantilever_tip(unsigned int p, unsigned int n_el, unsigned int nq, double L, double P, double EI,
+                        const fem::SectionProperties &sec)
+  {
+    const auto shape = fem::ElementShape::lagrange(p, L / n_el, nq);
+    const unsigned int n_nodes = n_el * p + 1, n = 3 * n_nodes;
+    auto node = [&](unsigned int e, unsigned int a) { return a == 0 ? e * p : a == 1 ? (e + 1) * p : e * p + a - 1; };
+    dealii::Vector<double> u(n);
+    for (unsigned int e = 0; e < n_el; ++e)
+      for (unsigned int a = 0; a <= p; ++a)
+        u[3 * node(e, a)] = (e + shape.node_position[a]) * shape.length;
+    const material::MomentCurvatureLaw law(EI);
+    const std::vector<fem::PointState> old(nq);
+    for (int it = 0; it < 20; ++it)
+      {
+        dealii::Vector<double> r(n);
+        dealii::FullMatrix<double> K(n, n);
+        fem::ElementResult er;
+        for (unsigned int e = 0; e < n_el; ++e)
+          {
+            std::vector<double> ue(3 * (p + 1));
+            for (unsigned int a = 0; a <= p; ++a)
+              for (unsigned int c = 0; c < 3; ++c)
+                ue[3 * a + c] = u[3 * node(e, a) + c];
+            fem::evaluate_rod_element(shape, sec, law, ue.data(), old.data(), 0.0, true, er);
+            for (unsigned int i = 0; i < ue.size(); ++i)
+              {
+                const unsigned int gi = 3 * node(e, i / 3) + i % 3;
+                r[gi] += er.residual[i];
+                for (unsigned int j = 0; j < ue.size(); ++j)
+                  K(gi, 3 * node(e, j / 3) + j % 3) += er.tangent[i * ue.size() + j];
+              }
+          }
+        r[3 * (n_nodes - 1) + 1] -= P;
+        for (unsigned int c = 0; c < 3; ++c) // clamp node 0
+          {
+            for (unsigned int j = 0; j < n; ++j)
+              K(c, j) = K(j, c) = 0.0;
+            K(c, c) = 1.0;
+            r[c] = 0.0;
+          }
+        if (r.linfty_norm() < 1e-10 * P + 1e-13)
+          break;
+        K.gauss_jordan();
+        dealii::Vector<double> du(n);
+        K.vmult(du, r);
+        u -= du;
+      }
+    return u[3 * (n_nodes - 1) + 1];
+  }
+
+  TEST(RodElement, NoLockingAtSlenderness1e4)
+  {
+    const auto sec = section();
+    const double EI = 60.0;
+    const double L = 1e4 * std::sqrt(EI / sec.EA); // slenderness L / radius of gyration
+    const double P = 3e-4 * EI / (L * L);            // tip deflection 1e-4 L: linear range
+    const double exact = P * L * L * L / (3 * EI) + P * L / sec.GA;
+    // Reduced integration (p points) converges with order 2 for p = 1 ...
+    double err[3];
+    for (int k = 0; k < 3; ++k)
+      err[k] = std::abs(cantilever_tip(1, 4u << k, 1, L, P, EI, sec) / exact - 1.0);
+    EXPECT_LT(err[2], 0.01);
+    for (int k = 0; k < 2; ++k)
+      EXPECT_NEAR(std::log2(err[k] / err[k + 1]), 2.0, 0.15) << "convergence order of p = 1";
+    // ... and is accurate already on a coarse mesh for p = 2, 3.
+    for (unsigned int p = 2; p <= 3; ++p)
+      EXPECT_NEAR(cantilever_tip(p, 4, p, L, P, EI, sec) / exact, 1.0, 1e-3) << "p = " << p;
+    // Full integration locks: the rod is orders of magnitude too stiff.
+    EXPECT_LT(cantilever_tip(1, 16, 2, L, P, EI, sec) / exact, 0.01);
+  }
+
+  TEST(RodElement, KirchhoffPenaltyRemovesTheShearDeflection)
+  {
+    auto sec = section();
+    const double EI = 60.0, L = 20.0, P = 1e-4;
+    const double bending = P * L * L * L / (3 * EI);
+    sec.GA = 1000.0 * sec.EA;
+    EXPECT_NEAR(cantilever_tip(2, 8, 2, L, P, EI, sec) / bending, 1.0, 1e-3);
+  }
+
+  fem::ContactSettings settings(bool friction)
+  {
+    fem::ContactSettings s;
+    s.stiffness = 2000.0;
+    s.friction = friction;
+    s.mu_static = 0.6;
+    s.mu_dynamic = 0.4;
+    s.threshold_velocity = 0.01;
+    return s;
+  }
+
+  TEST(FemContact, WallForceIsTheGradientAndTangentTheDerivative)
+  {
+    const double R = 10.0;
+    for (const Vec2 x : {Vec2{3.0, 9.35}, Vec2{-9.9, 0.2} /* at a mouth corner */})
+      for (const bool friction : {false, true})
+        {
+          const Vec2 v0{0.003, -0.002};
+          const double c = 40.0;
+          fem::ContactContribution cc, cp, cm;
+          ASSERT_TRUE(fem::wall_contact(R, settings(friction), 0.7, x, v0, c, cc));
+          for (int j = 0; j < 2; ++j)
+            {
+              const double h = 1e-7;
+              Vec2 xp = x, xm = x;
+              (j ? xp.y : xp.x) += h;
+              (j ? xm.y : xm.x) -= h;
+              ASSERT_TRUE(fem::wall_contact(R, settings(friction), 0.7, xp, v0, c, cp));
+              ASSERT_TRUE(fem::wall_contact(R, settings(friction), 0.7, xm, v0, c, cm));
+              for (int i = 0; i < 2; ++i)
+                EXPECT_NEAR((cp.residual[i] - cm.residual[i]) / (2 * h), cc.tangent[i * 2 + j],
+                            1e-5 * std::abs(cc.tangent[i * 2 + j]) + 1e-6);
+              if (!friction)
+                {
+                  EXPECT_NEAR((cp.energy - cm.energy) / (2 * h), cc.residual[j], 1e-6 * cc.normal_force);
+                }
+            }
+        }
+  }
+
+  TEST(FemContact, SegmentForceIsTheGradientAndTangentTheDerivative)
+  {
+    // End point of B against the interior of A, and end against end.
+    for (const std::array<Vec2, 4> x :
+         {std::array<Vec2, 4>{{{0, 0}, {1, 0.1}, {0.4, 0.8}, {0.7, 1.9}}},
+          std::array<Vec2, 4>{{{0, 0}, {1, 0.1}, {1.5, 0.6}, {2.5, 1.0}}}})
+      for (const bool friction : {false, true})
+        {
+          const std::array<Vec2, 4> v0{{{0.001, 0}, {0.002, 0.001}, {-0.003, 0}, {0, 0.002}}};
+          const double c = 40.0;
+          fem::ContactContribution cc, cp, cm;
+          ASSERT_TRUE(fem::segment_contact(settings(friction), 1.0, x, v0, c, cc));
+          for (int j = 0; j < 8; ++j)
+            {
+              const double h = 1e-7;
+              auto xp = x, xm = x;
+              (j % 2 ? xp[j / 2].y : xp[j / 2].x) += h;
+              (j % 2 ? xm[j / 2].y : xm[j / 2].x) -= h;
+              ASSERT_TRUE(fem::segment_contact(settings(friction), 1.0, xp, v0, c, cp));
+              ASSERT_TRUE(fem::segment_contact(settings(friction), 1.0, xm, v0, c, cm));
+              for (int i = 0; i < 8; ++i)
+                EXPECT_NEAR((cp.residual[i] - cm.residual[i]) / (2 * h), cc.tangent[i * 8 + j],
+                            1e-5 * std::abs(cc.tangent[i * 8 + j]) + 1e-5);
+              if (!friction)
+                {
+                  EXPECT_NEAR((cp.energy - cm.energy) / (2 * h), cc.residual[j], 1e-6 * cc.normal_force);
+                }
+            }
+        }
+  }
+
+  // A point of mass m pressed against the wall by P and pulled along it by
+  // T, integrated by backward Euler with Newton on the contact law.
+  double slide(double T, double P, double time, double &max_speed)
+  {
+    const double R = 1e4, m = 1.0, dt = 1e-3; // a nearly flat wall
+    const auto s = settings(true);
+    Vec2 x{0.0, R - 0.5 + P / s.stiffness}, v{0, 0};
+    max_speed = 0;
+    for (double t = 0; t < time; t += dt)
+      {
+        Vec2 x1 = x;
+        for (int it = 0; it < 30; ++it)
+          {
+            // m (x1 - x - dt v) / dt^2 + r(x1, v1) - F = 0, v1 = (x1 - x) / dt.
+            fem::ContactContribution cc;
+            const Vec2 v0 = -(1.0 / dt) * x;
+            if (!fem::wall_contact(R, s, 1.0, x1, v0, 1.0 / dt, cc))
+              {
+                cc = fem::ContactContribution{};
+              }
+            const double g[2] = {m * (x1.x - x.x - dt * v.x) / (dt * dt) + cc.residual[0] - T,
+                                 m * (x1.y - x.y - dt * v.y) / (dt * dt) + cc.residual[1] - P};
+            double J[4] = {m / (dt * dt) + cc.tangent[0], cc.tangent[1], cc.tangent[2], m / (dt * dt) + cc.tangent[3]};
+            const double det = J[0] * J[3] - J[1] * J[2];
+            x1.x -= (J[3] * g[0] - J[1] * g[1]) / det;
+            x1.y -= (-J[2] * g[0] + J[0] * g[1]) / det;
+            if (std::abs(g[0]) + std::abs(g[1]) < 1e-10)
+              break;
+          }
+        v = (1.0 / dt) * (x1 - x);
+        x = x1;
+        max_speed = std::max(max_speed, std::abs(v.x));
+      }
+    return v.x;
+  }
+
+  TEST(FemContact, FrictionSticksBelowMuStaticAndSlidesWithMuDynamicAbove)
+  {
+    const double P = 10.0, time = 2.0;
+    double vmax;
+    // Below mu_st P: the point creeps at a fraction of v_th (stick).
+    slide(0.5 * 0.6 * P, P, time, vmax);
+    EXPECT_LT(vmax, 0.01);
+    // Above mu_st P: it slides and accelerates at (T - mu_d P) / m.
+    const double T = 1.2 * 0.6 * P;
+    const double v = slide(T, P, time, vmax);
+    EXPECT_NEAR(v / ((T - 0.4 * P) * time), 1.0, 0.02);
+  }
+
+  scene::Scene fem_scene(std::vector<std::string> extra = {})
+  {
+    std::vector<std::string> o = {"Model=fem", "Cavity/Radius=6", "Injection/Speed=1", "Output/Progress=off",
+                                  "Contact/Friction/Static coefficient=0.3"};
+    o.insert(o.end(), extra.begin(), extra.end());
+    return scene::read_scene("", o);
+  }
+
+  TEST(RodModel, NewtonConvergesQuadratically)
+  {
+    fem::RodModel m(fem_scene());
+    int checked = 0;
+    for (int s = 0; s < 200 && checked < 5; ++s)
+      {
+        m.step();
+        const auto &h = m.newton_history();
+        if (h.size() < 4)
+          continue;
+        // e_{k+1} ~ C e_k^2: the order estimate from the last three residuals.
+        const auto n = h.size();
+        const double order = std::log(h[n - 1] / h[n - 2]) / std::log(h[n - 2] / h[n - 3]);
+        if (h[n - 2] < 1e-2 * h[0])
+          {
+            EXPECT_GT(order, 1.7) << "residuals " << h[n - 3] << " " << h[n - 2] << " " << h[n - 1];
+            ++checked;
+          }
+      }
+    EXPECT_GT(checked, 0) << "no step with enough Newton iterations to measure";
+  }
+
+  TEST(RodModel, EnergyBalanceAndOverlapOverARun)
+  {
+    fem::RodModel m(fem_scene({"Wire/Plasticity/Yield curvature=0.05"}));
+    while (m.injected_length() < 45.0)
+      m.step();
+    const auto &e = m.energies();
+    EXPECT_GT(m.report().n_self_contacts + m.report().n_wall_contacts, 0);
+    EXPECT_GT(e.plastic, 0.0);
+    EXPECT_GT(e.friction, 0.0);
+    EXPECT_LT(std::abs(e.balance_error()), 0.01) << "in " << e.initial + e.injection_work;
+    EXPECT_LT(m.report().max_penetration, 0.1);
+  }
+} // namespace
