@@ -122,56 +122,82 @@ namespace wirefem::fem
     else
       return false; // both interior: the centrelines cross
 
+    const std::array<Vec2, 3> xp{{x[point], x[s0], x[s1]}};
+    const std::array<Vec2, 3> vp{{v0[point], v0[s0], v0[s1]}};
+    ContactContribution pc;
+    double t;
+    if (!point_segment_contact(s, weight, xp, vp, c, pc, t, friction_scale))
+      return false;
     const int ids[3] = {point, s0, s1};
+    for (int m = 0; m < 3; ++m)
+      for (int cm = 0; cm < 2; ++cm)
+        {
+          out.residual[2 * ids[m] + cm] = pc.residual[2 * m + cm];
+          out.friction_residual[2 * ids[m] + cm] = pc.friction_residual[2 * m + cm];
+          for (int n = 0; n < 3; ++n)
+            for (int cn = 0; cn < 2; ++cn)
+              out.tangent[(2 * ids[m] + cm) * 8 + 2 * ids[n] + cn] = pc.tangent[(2 * m + cm) * 6 + 2 * n + cn];
+        }
+    out.normal_force = pc.normal_force;
+    out.energy = pc.energy;
+    return true;
+  }
+
+  bool point_segment_contact(const ContactSettings &s, const double weight, const std::array<Vec2, 3> &x,
+                             const std::array<Vec2, 3> &v0, const double c, ContactContribution &out, double &t_out,
+                             const double friction_scale)
+  {
+    out = ContactContribution{};
+    out.n_points = 3;
     P<Fad> p[3];
     for (int m = 0; m < 3; ++m)
-      p[m] = {Fad(6, 2 * m, x[ids[m]].x), Fad(6, 2 * m + 1, x[ids[m]].y)};
+      p[m] = {Fad(6, 2 * m, x[m].x), Fad(6, 2 * m + 1, x[m].y)};
     const Fad dx = p[2].x - p[1].x, dy = p[2].y - p[1].y;
     Fad t = ((p[0].x - p[1].x) * dx + (p[0].y - p[1].y) * dy) / (dx * dx + dy * dy);
     if (t.val() <= 0.0)
       t = 0.0;
     else if (t.val() >= 1.0)
       t = 1.0;
+    t_out = t.val();
     const Fad qx = p[1].x + t * dx, qy = p[1].y + t * dy;
     const Fad ex = p[0].x - qx, ey = p[0].y - qy;
     const Fad dist = sqrt(ex * ex + ey * ey);
+    if (dist.val() >= s.diameter)
+      return false;
+    out.overlap = s.diameter - dist.val();
+    if (dist.val() < 1e-12 * s.diameter)
+      return false;
     const Fad nx = ex / dist, ny = ey / dist; // from the segment towards the point
     const double k = s.stiffness * weight;
     const Fad g = s.diameter - dist;
     const Fad fn = k * g;
     // Force on the point +fn n, on the segment ends -(1-t) fn n and -t fn n.
-    Fad fx = fn * nx, fy = fn * ny;
+    const Fad fx = fn * nx, fy = fn * ny;
     Fad ffx = 0.0, ffy = 0.0;
     if (s.friction)
       {
         const Fad tx = -ny, ty = nx;
-        const Fad vpx = c * p[0].x + v0[ids[0]].x, vpy = c * p[0].y + v0[ids[0]].y;
-        const Fad vqx = (1.0 - t) * (c * p[1].x + v0[ids[1]].x) + t * (c * p[2].x + v0[ids[2]].x);
-        const Fad vqy = (1.0 - t) * (c * p[1].y + v0[ids[1]].y) + t * (c * p[2].y + v0[ids[2]].y);
+        const Fad vpx = c * p[0].x + v0[0].x, vpy = c * p[0].y + v0[0].y;
+        const Fad vqx = (1.0 - t) * (c * p[1].x + v0[1].x) + t * (c * p[2].x + v0[2].x);
+        const Fad vqy = (1.0 - t) * (c * p[1].y + v0[1].y) + t * (c * p[2].y + v0[2].y);
         const Fad ft = friction_force<Fad>(s, fn, Fad((vpx - vqx) * tx + (vpy - vqy) * ty));
         ffx = ft * tx;
         ffy = ft * ty;
       }
     const Fad share[3] = {Fad(1.0), -(1.0 - t), -t};
-    Fad r[8], rf[8];
-    for (int i = 0; i < 8; ++i)
-      r[i] = rf[i] = Fad(6, 0.0);
     for (int m = 0; m < 3; ++m)
       {
-        rf[2 * ids[m]] = -share[m] * ffx;
-        rf[2 * ids[m] + 1] = -share[m] * ffy;
-        r[2 * ids[m]] = -share[m] * (fx + ffx);
-        r[2 * ids[m] + 1] = -share[m] * (fy + ffy);
-      }
-    // Derivatives are with respect to the three points' coordinates: spread
-    // them to the 8 coordinates of the four points.
-    for (int i = 0; i < 8; ++i)
-      {
-        out.residual[i] = r[i].val();
-        out.friction_residual[i] = rf[i].val();
-        for (int m = 0; m < 3; ++m)
-          for (int cc = 0; cc < 2; ++cc)
-            out.tangent[i * 8 + 2 * ids[m] + cc] = r[i].dx(2 * m + cc) + (friction_scale - 1.0) * rf[i].dx(2 * m + cc);
+        const Fad rfx = -share[m] * ffx, rfy = -share[m] * ffy;
+        const Fad rx = -share[m] * fx + rfx, ry = -share[m] * fy + rfy;
+        out.residual[2 * m] = rx.val();
+        out.residual[2 * m + 1] = ry.val();
+        out.friction_residual[2 * m] = rfx.val();
+        out.friction_residual[2 * m + 1] = rfy.val();
+        for (int j = 0; j < 6; ++j)
+          {
+            out.tangent[(2 * m) * 6 + j] = rx.dx(j) + (friction_scale - 1.0) * rfx.dx(j);
+            out.tangent[(2 * m + 1) * 6 + j] = ry.dx(j) + (friction_scale - 1.0) * rfy.dx(j);
+          }
       }
     out.normal_force = fn.val();
     out.energy = 0.5 * k * g.val() * g.val();

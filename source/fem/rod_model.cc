@@ -548,30 +548,39 @@ namespace wirefem::fem
           }
     if (scene.contact.self_contact)
       {
+        // Node-to-segment contact, both ways: the first node of each
+        // candidate segment against the other segment. Two wires side by
+        // side are then pressed apart by a force that moves smoothly along
+        // them (segment-to-segment closest points jump between end points
+        // of nearly parallel segments, which stalls Newton). Each direction
+        // carries half the penalty, so two parallel wires feel k_n per unit
+        // length as in the discrete model. A closest point at the far end of
+        // a segment is the near end of the next one, which reports it.
         const int last_segment = last + 1 - 2; // nodes [first - 1, last + 1)
+        const double fs = c_force > 0 ? 1.0 / c_force : 1.0;
         for (const auto &pr : broad.candidates())
-          {
-            const int i = pr.i, j = pr.j;
-            const std::array<Vec2, 4> x{{position(u1, i), position(u1, i + 1), position(u1, j), position(u1, j + 1)}};
-            const auto cp = contact::closest_points(x[0], x[1], x[2], x[3]);
-            if (cp.distance >= diameter)
-              continue;
-            if ((cp.s >= 1.0 && i < last_segment && j - (i + 1) > exclusion) || (cp.t >= 1.0 && j < last_segment))
-              continue;
-            const double weight = 0.5 * (node_S[i + 1] - node_S[i] + node_S[j + 1] - node_S[j]);
-            const std::array<Vec2, 4> w0{{vel0(i), vel0(i + 1), vel0(j), vel0(j + 1)}};
-            if (segment_contact(self_settings, weight, x, w0, c_vel, cc, c_force > 0 ? 1.0 / c_force : 1.0))
-              {
-                add_contact({i, i + 1, j, j + 1});
-                e.node_contact_force[i] += (1.0 - cp.s) * cc.normal_force;
-                e.node_contact_force[i + 1] += cp.s * cc.normal_force;
-                e.node_contact_force[j] += (1.0 - cp.t) * cc.normal_force;
-                e.node_contact_force[j + 1] += cp.t * cc.normal_force;
-                e.pairs.push_back({i, j, cp.s, cp.t, cc.normal_force});
-              }
-            else
+          for (const bool a_on_b : {true, false})
+            {
+              const int node = a_on_b ? pr.i : pr.j, seg = a_on_b ? pr.j : pr.i;
+              const std::array<Vec2, 3> x{{position(u1, node), position(u1, seg), position(u1, seg + 1)}};
+              const std::array<Vec2, 3> w0{{vel0(node), vel0(seg), vel0(seg + 1)}};
+              double tc;
+              const bool touch = point_segment_contact(self_settings, 0.5 * node_weight(node), x, w0, c_vel, cc, tc, fs);
+              const bool next_reports = seg + 1 <= last_segment && std::abs(seg + 1 - node) > exclusion;
+              if (tc >= 1.0 && next_reports)
+                continue;
               e.max_overlap = std::max(e.max_overlap, cc.overlap);
-          }
+              if (!touch)
+                continue;
+              add_contact({node, seg, seg + 1});
+              e.node_contact_force[node] += cc.normal_force;
+              e.node_contact_force[seg] += (1.0 - tc) * cc.normal_force;
+              e.node_contact_force[seg + 1] += tc * cc.normal_force;
+              if (a_on_b)
+                e.pairs.push_back({node, seg, 0.0, tc, cc.normal_force});
+              else
+                e.pairs.push_back({seg, node, tc, 0.0, cc.normal_force});
+            }
       }
     if (want_tangent)
       K.compress(dealii::VectorOperation::add);

@@ -57,6 +57,14 @@ namespace wirefem::fem
   bool wall_contact(double radius, const ContactSettings &s, double weight, const geometry::Vec2 &x,
                     const geometry::Vec2 &v0, double c, ContactContribution &out, double friction_scale = 1.0);
 
+  /// Point x[0] against the segment x[1]-x[2] (the closest point of the
+  /// segment, clamped to its ends). t: the segment parameter of the closest
+  /// point. Returns false when they are farther apart than d (or touch at
+  /// zero distance). Residual and tangent cover the 6 coordinates.
+  bool point_segment_contact(const ContactSettings &s, double weight, const std::array<geometry::Vec2, 3> &x,
+                             const std::array<geometry::Vec2, 3> &v0, double c, ContactContribution &out,
+                             double &t, double friction_scale = 1.0);
+
   /// Segment a0-a1 against segment b0-b1 (points 0..3 in that order). In the
   /// plane the closest points of two segments that do not cross always
   /// involve an end point; the case is chosen from the current positions.
