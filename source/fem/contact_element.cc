@@ -10,7 +10,7 @@ namespace wirefem::fem
 {
   namespace
   {
-    using Fad = Sacado::Fad::DFad<double>;
+    using Fad = Sacado::Fad::SLFad<double, 6>; // at most 6 coordinates: no heap
     using geometry::Vec2;
 
     template <typename T>

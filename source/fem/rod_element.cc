@@ -153,7 +153,7 @@ namespace wirefem::fem
     out.tangent.clear();
     if (!want_tangent)
       return;
-    using Fad = Sacado::Fad::DFad<double>;
+    using Fad = Sacado::Fad::SLFad<double, 12>; // at most 12 dofs (p = 3): no heap
     std::vector<Fad> u(n), r(n);
     for (unsigned int i = 0; i < n; ++i)
       u[i] = Fad(n, i, dofs[i]);

@@ -838,6 +838,13 @@ namespace wirefem::fem
               "time step {:.3g}); last residual {:.3g}",
               m.t, 2.0 * step, m.scene.fem.minimum_time_step, m.history.empty() ? NAN : m.history.back()));
       }
+    if (const char *log = std::getenv("WIREFEM_NEWTON_LOG"); log && std::string(log) == "all")
+      {
+        std::string h;
+        for (const double r : m.history)
+          h += fmt::format(" {:.2e}", r);
+        std::cerr << fmt::format("t = {:.5g}: step {:.3g} converged; residuals{}\n", m.t, step, h);
+      }
     // Grow the step again when Newton had an easy time.
     m.dt = m.history.size() <= 4 ? std::min(m.dt_max, 1.5 * step) : step;
   }
