@@ -8,6 +8,9 @@ exe=${WIREFEM:-./build/wirefem}
 scene=${1:-prm/quick.prm}; shift || true
 out=${OUT:-output/hard-cases}
 mkdir -p "$out"
+# Ten times the scene's own injection speed (1 when the scene does not set it).
+speed=$(awk -F= '/^[[:space:]]*set[[:space:]]+Speed[[:space:]]*=/ {gsub(/^[[:space:]]+/, "", $2); gsub(/[[:space:]#].*/, "", $2); v=$2} END {print (v == "" ? 1 : v)}' "$scene")
+speed10=$(awk -v v="$speed" 'BEGIN {print 10 * v}')
 cases=(
   "default|"
   "mu_st=5|Contact/Friction/Static coefficient=5"
@@ -15,7 +18,7 @@ cases=(
   "s=0|Wire/Plasticity/Hardening slope=0"
   "s=1|Wire/Plasticity/Hardening slope=1"
   "k_n x10|Contact/Normal stiffness=20000"
-  "speed x10|Injection/Speed=10"
+  "speed x10|Injection/Speed=$speed10"
 )
 printf "| case | exit | stop | phi | balance error | max overlap (d) | steps | wall (s) |\n|---|---|---|---|---|---|---|---|\n"
 for c in "${cases[@]}"; do

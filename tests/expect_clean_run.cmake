@@ -1,5 +1,10 @@
-# Runs EXE PRM --set SETTING and expects exit 0 and summary.json "failed": false.
-execute_process(COMMAND ${EXE} ${PRM} --set ${SETTING} --set Output/Directory=${OUT} --set Output/Progress=off
+# Runs EXE PRM --set SETTING [--set MODEL] and expects exit 0 and summary.json
+# "failed": false. MODEL (optional) is a second setting such as Model=fem.
+set(extra)
+if(MODEL)
+  set(extra --set ${MODEL})
+endif()
+execute_process(COMMAND ${EXE} ${PRM} --set ${SETTING} ${extra} --set Output/Directory=${OUT} --set Output/Progress=off
                 RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_VARIABLE out)
 message("${out}")
 if(NOT rc EQUAL 0)

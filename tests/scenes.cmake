@@ -46,6 +46,31 @@ foreach(case "mu5;Contact/Friction/Static coefficient=5"
   set_tests_properties(scene.hard_case_${name} PROPERTIES LABELS "regression;stress")
 endforeach()
 
+# The rod FEM on the quick scene, and its hard cases (SPEC 3, issue list):
+# each runs to its end, with the adaptive step recovering from Newton failures.
+add_test(NAME scene.fem_quick_runs
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
+                 -DSETTING=Model=fem -DOUT=${SCENE_OUT}/fem_quick
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+set_tests_properties(scene.fem_quick_runs PROPERTIES LABELS regression)
+add_test(NAME scene.fem_explicit_quick_runs
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
+                 -DSETTING=FEM/Integrator=explicit -DMODEL=Model=fem -DOUT=${SCENE_OUT}/fem_explicit
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+set_tests_properties(scene.fem_explicit_quick_runs PROPERTIES LABELS regression)
+foreach(case "mu5;Contact/Friction/Static coefficient=5"
+        "kappa0;Wire/Plasticity/Yield curvature=0"
+        "kn10;Contact/Normal stiffness=20000"
+        "speed10;Injection/Speed=10")
+  list(GET case 0 name)
+  list(GET case 1 setting)
+  add_test(NAME scene.fem_hard_case_${name}
+           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
+                   -DSETTING=${setting} -DMODEL=Model=fem -DOUT=${SCENE_OUT}/fem_hard_${name}
+                   -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+  set_tests_properties(scene.fem_hard_case_${name} PROPERTIES LABELS "regression;stress")
+endforeach()
+
 add_test(NAME scene.interrupt_and_resume
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/interrupt_resume.sh ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm
                  ${SCENE_OUT}/resume)

@@ -138,8 +138,30 @@ namespace wirefem::fem
                   double c_mass, double c_force, double blend_force, Evaluation &e);
     void rebuild_sparsity(int first, int last);
     bool solve_step(double step);
+    void explicit_step(double step);
+    bool explicit_mode = false;
+    std::vector<double> lumped_element; // row sums of element_mass
+    double cell_kinetic(unsigned int c, const dealii::Vector<double> &vel) const
+    {
+      const unsigned int nd = n_local;
+      double ek = 0;
+      for (unsigned int i = 0; i < nd; ++i)
+        {
+          const double vi = vel[3 * cell_node[c][i / 3] + i % 3];
+          if (explicit_mode)
+            ek += 0.5 * lumped_element[i] * vi * vi;
+          else
+            for (unsigned int j = 0; j < nd; ++j)
+              ek += 0.5 * vi * element_mass[i * nd + j] * vel[3 * cell_node[c][j / 3] + j % 3];
+        }
+      return ek;
+    }
+    /// Accepts the step. The channel work is summed over the prescribed dofs
+    /// of the free range [work_first, work_last) (the range the step was
+    /// solved with).
     void commit(double step, int first, int last, const dealii::Vector<double> &u1,
-                const dealii::Vector<double> &v1, const dealii::Vector<double> &a1, Evaluation &e);
+                const dealii::Vector<double> &v1, const dealii::Vector<double> &a1, Evaluation &e,
+                int work_first, int work_last);
     double kinetic_energy(const dealii::Vector<double> &vel, int first, int last) const;
     bool cell_active(unsigned int c, int first, int last) const
     {
@@ -296,9 +318,24 @@ namespace wirefem::fem
         gamma = 0.5 - alpha_m + alpha_f;
         beta = 0.25 * (1.0 - alpha_m + alpha_f) * (1.0 - alpha_m + alpha_f);
       }
-    else if (integrator == scene::Integrator::explicit_lumped)
-      throw std::runtime_error("FEM/Integrator = explicit is not implemented yet; use generalized-alpha");
     dt_max = s.fem.time_step > 0 ? s.fem.time_step : std::min(0.05, 0.05 * diameter / s.injection.speed);
+    if (integrator == scene::Integrator::explicit_lumped)
+      {
+        // Central differences (symplectic Euler) with the row-sum lumped
+        // mass: stable below 2 / omega_max; half of it by default.
+        explicit_mode = true;
+        const unsigned int nd = n_local;
+        lumped_element.assign(nd, 0.0);
+        for (unsigned int i = 0; i < nd; ++i)
+          for (unsigned int j = 0; j < nd; ++j)
+            lumped_element[i] += element_mass[i * nd + j];
+        const double hm = min_spacing;
+        const double m_t = rhoA * hm, m_r = rhoI * hm;
+        const double w2 = std::max(4.0 * (section.EA + section.GA) / (m_t * hm),
+                                   (section.GA * hm + 4.0 * w.bending_stiffness / hm) / m_r) +
+                          4.0 * con.normal_stiffness * hm / m_t;
+        dt_max = s.fem.time_step > 0 ? s.fem.time_step : 0.5 * 2.0 / std::sqrt(w2);
+      }
     dt = dt_max;
     for (int side = 0; side < 2; ++side)
       window[side].length = h / p;
@@ -334,7 +371,7 @@ namespace wirefem::fem
           ledger.initial += rod_element_energy(stiffness_shape, section, law, ue.data(),
                                                &qp[c * stiffness_shape.n_q]);
         }
-    if (inertia)
+    if (inertia && !explicit_mode)
       {
         // M a0 = -f(u0) on the free dofs.
         evaluate(u, zero, 0.0, 0.0, zero, first_free, last_free, true, 1.0, 0.0, 0.0, e);
@@ -591,17 +628,48 @@ namespace wirefem::fem
     if (!inertia)
       return 0.0;
     double ek = 0;
-    const unsigned int nd = n_local;
     for (unsigned int c = 0; c < n_cells; ++c)
-      {
-        if (!cell_active(c, first, last))
-          continue;
-        for (unsigned int i = 0; i < nd; ++i)
-          for (unsigned int j = 0; j < nd; ++j)
-            ek += 0.5 * vel[3 * cell_node[c][i / 3] + i % 3] * element_mass[i * nd + j] *
-                  vel[3 * cell_node[c][j / 3] + j % 3];
-      }
+      if (cell_active(c, first, last))
+        ek += cell_kinetic(c, vel);
     return ek;
+  }
+
+  void RodModel::Impl::explicit_step(const double step)
+  {
+    const unsigned int n = u.size();
+    int first, last;
+    free_range(t + step, first, last);
+    {
+      dealii::TimerOutput::Scope ts(timer, "contact search");
+      std::vector<Vec2> x(n_nodes);
+      for (unsigned int k = 0; k < n_nodes; ++k)
+        x[k] = position(u, k);
+      broad.update(x, first_free - 1, last_free + 1);
+    }
+    // Forces at t_n with the velocities v_n (dashpot rates over the last step).
+    Evaluation e;
+    const dealii::Vector<double> zero(n);
+    evaluate(u, zero, step, 0.0, v, first_free, last_free, false, 0.0, 1.0, 1.0, e);
+    std::vector<double> mass(n, 0.0);
+    for (unsigned int c = 0; c < n_cells; ++c)
+      if (cell_active(c, first_free, last_free))
+        for (unsigned int i = 0; i < n_local; ++i)
+          mass[3 * cell_node[c][i / 3] + i % 3] += lumped_element[i];
+    dealii::Vector<double> u1(u), v1(v), a1(n);
+    // The wire outside the inlets at t_n follows the channels to t_{n+1}.
+    prescribe(t + step, u1, &v1, &a1, first_free, last_free);
+    for (int i = 3 * first_free; i < 3 * last_free; ++i)
+      {
+        a1[i] = -(e.force[i] + e.dissipative[i]) / mass[i];
+        v1[i] = v[i] + step * a1[i];
+        u1[i] = u[i] + step * v1[i];
+      }
+    // Reactions at the prescribed dofs include their share of inertia.
+    for (unsigned int i = 0; i < n; ++i)
+      if (static_cast<int>(i) < 3 * first_free || static_cast<int>(i) >= 3 * last_free)
+        e.residual[i] += mass[i] * a1[i];
+    history.assign(1, 0.0);
+    commit(step, first, last, u1, v1, a1, e, first_free, last_free);
   }
 
   bool RodModel::Impl::solve_step(const double step)
@@ -672,7 +740,7 @@ namespace wirefem::fem
           {
             for (unsigned int i = 0; i < n; ++i)
               e.residual[i] += alpha_f * f_old[i];
-            commit(step, first, last, u1, v1, a1, e);
+            commit(step, first, last, u1, v1, a1, e, first, last);
             return true;
           }
         if (!std::isfinite(res))
@@ -724,7 +792,8 @@ namespace wirefem::fem
   }
 
   void RodModel::Impl::commit(const double step, const int first, const int last, const dealii::Vector<double> &u1,
-                              const dealii::Vector<double> &v1, const dealii::Vector<double> &a1, Evaluation &e)
+                              const dealii::Vector<double> &v1, const dealii::Vector<double> &a1, Evaluation &e,
+                              const int work_first, const int work_last)
   {
     const unsigned int n = u.size();
     // Wire that entered the system this step brings its kinetic energy.
@@ -732,31 +801,25 @@ namespace wirefem::fem
       {
         double before = 0;
         for (unsigned int c = 0; c < n_cells; ++c)
-          if (cell_active(c, first, last) && !cell_active(c, first_free, last_free) && inertia)
-            {
-              const unsigned int nd = n_local;
-              for (unsigned int i = 0; i < nd; ++i)
-                for (unsigned int j = 0; j < nd; ++j)
-                  before += 0.5 * v[3 * cell_node[c][i / 3] + i % 3] * element_mass[i * nd + j] *
-                            v[3 * cell_node[c][j / 3] + j % 3];
-            }
+          if (inertia && cell_active(c, first, last) && !cell_active(c, first_free, last_free))
+            before += cell_kinetic(c, v);
         ledger.injection_work += before;
       }
     // Channel work: reactions at the prescribed dofs of the active cells.
     std::vector<char> counted(n_nodes, 0);
     double work[2] = {0, 0};
     for (unsigned int c = 0; c < n_cells; ++c)
-      if (cell_active(c, first, last))
+      if (cell_active(c, work_first, work_last))
         for (const auto k : cell_node[c])
           {
             const int ki = static_cast<int>(k);
-            if ((ki >= first && ki < last) || counted[k])
+            if ((ki >= work_first && ki < work_last) || counted[k])
               continue;
             counted[k] = 1;
             double w = 0;
             for (unsigned int cc = 0; cc < 3; ++cc)
               w += e.residual[3 * k + cc] * (u1[3 * k + cc] - u[3 * k + cc]);
-            work[ki < first ? 0 : 1] += w;
+            work[ki < work_first ? 0 : 1] += w;
           }
     const double du = channels.injected_per_channel(t + step) - channels.injected_per_channel(t);
     for (int side = 0; side < 2; ++side)
@@ -800,15 +863,25 @@ namespace wirefem::fem
   std::string RodModel::description() const
   {
     const auto &s = impl->scene.fem;
-    return fmt::format("{} rod, degree {}, h = {}, {} dofs, generalized-alpha rho = {}, dt <= {:.4g}",
+    const std::string integrator =
+        s.integrator == scene::Integrator::quasi_static ? "quasi-static"
+        : s.integrator == scene::Integrator::explicit_lumped
+            ? "explicit (lumped mass)"
+            : fmt::format("generalized-alpha rho = {}", s.spectral_radius);
+    return fmt::format("{} rod, degree {}, h = {}, {} dofs, {}, dt {} {:.4g}",
                        s.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner", s.degree,
-                       s.element_length, impl->dof_handler.n_dofs(),
-                       s.integrator == scene::Integrator::quasi_static ? -1.0 : s.spectral_radius, impl->dt_max);
+                       s.element_length, impl->dof_handler.n_dofs(), integrator,
+                       impl->explicit_mode ? "=" : "<=", impl->dt_max);
   }
 
   void RodModel::step()
   {
     auto &m = *impl;
+    if (m.explicit_mode)
+      {
+        m.explicit_step(m.dt);
+        return;
+      }
     double step = m.dt;
     while (true)
       {
