@@ -318,7 +318,7 @@ namespace wirefem::fem
         gamma = 0.5 - alpha_m + alpha_f;
         beta = 0.25 * (1.0 - alpha_m + alpha_f) * (1.0 - alpha_m + alpha_f);
       }
-    dt_max = s.fem.time_step > 0 ? s.fem.time_step : std::min(0.05, 0.05 * diameter / s.injection.speed);
+    dt_max = s.fem.time_step > 0 ? s.fem.time_step : std::min(0.025, 0.025 * diameter / s.injection.speed);
     if (integrator == scene::Integrator::explicit_lumped)
       {
         // Central differences (symplectic Euler) with the row-sum lumped
