@@ -138,6 +138,8 @@ namespace wirefem::fem
                   double c_mass, double c_force, double blend_force, Evaluation &e);
     void rebuild_sparsity(int first, int last);
     bool solve_step(double step);
+    bool check_tangent = false;  ///< compare the tangent with finite differences at the next predictor
+    double tangent_error = -1.0; ///< max |K - K_fd| / max |K| found there
     void explicit_step(double step);
     bool explicit_mode = false;
     std::vector<double> lumped_element; // row sums of element_mass
@@ -358,19 +360,13 @@ namespace wirefem::fem
         u[3 * k + 1] = shape.offset(xi);
         u[3 * k + 2] = std::atan(shape.slope(xi));
       }
-    // Stored energy of the perturbed wire and the initial acceleration.
+    // The initial acceleration, and the stored energy of the perturbed
+    // wire. Where its curvature exceeds the yield curvature the wire starts
+    // plastically pre-bent (the return mapping from a virgin state gives the
+    // plastic curvature), so that it starts in an admissible state and the
+    // initial energy is what is elastically stored.
     Evaluation e;
     dealii::Vector<double> zero(n_dofs);
-    for (unsigned int c = 0; c < n_cells; ++c)
-      if (cell_active(c, first_free, last_free))
-        {
-          std::vector<double> ue(n_local);
-          for (unsigned int a_ = 0; a_ <= p; ++a_)
-            for (unsigned int cc = 0; cc < 3; ++cc)
-              ue[3 * a_ + cc] = u[3 * cell_node[c][a_] + cc];
-          ledger.initial += rod_element_energy(stiffness_shape, section, law, ue.data(),
-                                               &qp[c * stiffness_shape.n_q]);
-        }
     if (inertia && !explicit_mode)
       {
         // M a0 = -f(u0) on the free dofs.
@@ -389,6 +385,7 @@ namespace wirefem::fem
       evaluate(u, zero, 0.0, 0.0, zero, first_free, last_free, false, 0.0, 1.0, 1.0, e);
     // The strains of the initial shape are the reference of the first rates.
     qp = e.state;
+    ledger.initial = e.axial + e.shear + e.bending;
   }
 
   void RodModel::Impl::free_range(const double time, int &first, int &last) const
@@ -732,6 +729,36 @@ namespace wirefem::fem
     dealii::TrilinosWrappers::SolverDirect solver(control);
     kinematics();
     evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, e);
+    if (check_tangent)
+      {
+        // Central differences of the assembled residual, column by column.
+        check_tangent = false;
+        double worst = 0, largest = 0;
+        const double eps = 1e-7;
+        for (int j = 0; j < nw; ++j)
+          {
+            const double keep = u1[lo + j];
+            dealii::Vector<double> rp(nw);
+            for (const double sign : {1.0, -1.0})
+              {
+                u1[lo + j] = keep + sign * eps;
+                kinematics();
+                evaluate(u1, a_blend, step, c_vel, v0, first, last, false, c_mass, c_force, c_force, trial);
+                for (int i = 0; i < nw; ++i)
+                  rp[i] += sign * trial.residual[lo + i] / (2 * eps);
+              }
+            u1[lo + j] = keep;
+            for (int i = 0; i < nw; ++i)
+              {
+                const double kij = K.el(i, j);
+                worst = std::max(worst, std::abs(kij - rp[i]));
+                largest = std::max(largest, std::abs(kij));
+              }
+          }
+        tangent_error = worst / largest;
+        kinematics();
+        evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, e);
+      }
     double res = residual_norm(e);
     history.push_back(res);
     for (unsigned int it = 0; it < scene.fem.maximum_iterations; ++it)
@@ -933,6 +960,14 @@ namespace wirefem::fem
   const std::vector<std::string> &RodModel::active_effects() const { return impl->effects; }
   const std::vector<double> &RodModel::newton_history() const { return impl->history; }
   unsigned long RodModel::n_step_cuts() const { return impl->cuts; }
+
+  double RodModel::step_checking_tangent()
+  {
+    impl->check_tangent = true;
+    impl->tangent_error = -1.0;
+    step();
+    return impl->tangent_error;
+  }
   unsigned int RodModel::n_dofs() const { return impl->dof_handler.n_dofs(); }
 
   bool RodModel::finite() const
