@@ -15,6 +15,13 @@ if(EXISTS ${CHECK_CONTRACT})
            COMMAND python3 ${CHECK_CONTRACT} ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm
            WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
   set_tests_properties(scene.output_contract PROPERTIES LABELS regression)
+  # The same contract for the rod FEM: prm/quick.prm with Model = fem.
+  file(READ ${CMAKE_SOURCE_DIR}/prm/quick.prm quick_scene)
+  file(WRITE ${CMAKE_BINARY_DIR}/quick_fem.prm "${quick_scene}\nset Model = fem\n")
+  add_test(NAME scene.fem_output_contract
+           COMMAND python3 ${CHECK_CONTRACT} ${WIREFEM_EXE} ${CMAKE_BINARY_DIR}/quick_fem.prm
+           WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+  set_tests_properties(scene.fem_output_contract PROPERTIES LABELS regression)
 endif()
 
 # Bad input: exit status 2, a message naming the key, no output directory.
