@@ -44,7 +44,7 @@ namespace wirefem::discrete
 
     const bool keep = scene.keep_neutral_effects;
     effects.push_back("stretching");
-    terms.push_back(std::make_unique<StretchingTerm>(k1, scene.discrete.axial_damping));
+    terms.push_back(std::make_unique<StretchingTerm>(k1, scene.discrete.axial_damping, nodes.capacity()));
     double omega2 = 4.0 * k1 / mass;
     if (scene.wire.bending_stiffness > 0.0)
       {
@@ -62,7 +62,7 @@ namespace wirefem::discrete
         omega2 += 16.0 * k2 / (mass * lambda0 * lambda0);
       }
     if (scene.discrete.translational_damping > 0.0)
-      terms.push_back(std::make_unique<DampingTerm>(scene.discrete.translational_damping));
+      terms.push_back(std::make_unique<DampingTerm>(scene.discrete.translational_damping, nodes.capacity()));
     if (scene.discrete.translational_damping > 0.0 || (bending && scene.discrete.rotational_damping > 0.0))
       effects.push_back("damping");
 
@@ -112,9 +112,15 @@ namespace wirefem::discrete
                                         : scene.discrete.time_step_factor * 2.0 / std::sqrt(omega2);
 
     // The perturbed initial wire is not stress free: its energy is energy in.
+    // Where it is bent beyond yield it starts plastically pre-bent (the
+    // return-mapped state is committed), so its energy in is the elastic
+    // energy it actually stores; without the commit the first step would
+    // book the excess as plastic dissipation that no work ever paid for.
     StepEnergy e0;
     for (auto &term : terms)
       term->add_forces(nodes, dt, e0);
+    for (auto &term : terms)
+      term->commit();
     std::fill(nodes.f.begin(), nodes.f.end(), Vec2{});
     std::fill(nodes.contact_force.begin(), nodes.contact_force.end(), 0.0);
     ledger.initial = e0.stretching + e0.bending + e0.contact;
@@ -237,7 +243,7 @@ namespace wirefem::discrete
 
   namespace
   {
-    constexpr std::uint64_t checkpoint_magic = 0x77697265666d3031ull; // "wirefm01"
+    constexpr std::uint64_t checkpoint_magic = 0x77697265666d3032ull; // "wirefm02"
   }
 
   void ChainModel::save(std::ostream &out) const

@@ -44,8 +44,24 @@ namespace wirefem::discrete
     };
   } // namespace
 
+  StretchingTerm::StretchingTerm(const double k1, const double axial_damping, const int capacity)
+    : k1(k1)
+    , damping(axial_damping)
+  {
+    if (damping > 0.0)
+      previous.resize(capacity);
+  }
+
+  void StretchingTerm::commit()
+  {
+    if (!previous.empty())
+      previous.commit();
+  }
+
   void StretchingTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
+    if (damping > 0.0 && previous.committed.size() < static_cast<std::size_t>(c.capacity()))
+      previous.resize(c.capacity());
     for (int k = c.first; k < c.last - 1; ++k)
       {
         const Vec2 d = c.x[k + 1] - c.x[k];
@@ -56,7 +72,8 @@ namespace wirefem::discrete
           {
             const double rate = dot(c.v[k + 1] - c.v[k], d) / len;
             tension += damping * rate;
-            e.damping_work += damping * rate * rate * dt;
+            e.damping_work += damping * 0.5 * (previous.committed[k] + rate) * rate * dt;
+            previous.trial[k] = rate;
           }
         const Vec2 fk = (tension / len) * d; // pulls k towards k+1 when stretched
         c.f[k] += fk;
@@ -75,6 +92,8 @@ namespace wirefem::discrete
         state.resize(capacity);
         trial_state.resize(capacity);
       }
+    if (damping > 0.0)
+      previous.resize(capacity);
   }
 
   double BendingTerm::turning_angle(const Chain &c, const int k)
@@ -107,7 +126,8 @@ namespace wirefem::discrete
           {
             const double rate = angle.rate(c, k);
             moment += damping * rate;
-            e.damping_work += damping * rate * rate * dt;
+            e.damping_work += damping * 0.5 * (previous.committed[k] + rate) * rate * dt;
+            previous.trial[k] = rate;
           }
         angle.apply(c, k, moment);
       }
@@ -118,6 +138,8 @@ namespace wirefem::discrete
     // No copy needed: add_forces writes the trial state of every interior
     // node, and nodes that are not interior yet hold zero state in both.
     state.swap(trial_state);
+    if (!previous.empty())
+      previous.commit();
   }
 
   void CurvatureLimitTerm::add_forces(Chain &c, double, StepEnergy &e)
@@ -133,13 +155,27 @@ namespace wirefem::discrete
       }
   }
 
+  DampingTerm::DampingTerm(const double gamma, const int capacity)
+    : gamma(gamma)
+  {
+    previous.resize(capacity);
+  }
+
+  void DampingTerm::commit()
+  {
+    previous.commit();
+  }
+
   void DampingTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
     const double cm = gamma * c.node_mass;
+    for (int k = c.first; k < c.last; ++k)
+      previous.trial[k] = Vec2{}; // prescribed nodes feel no damping
     for (int k = c.first + c.n_prescribed; k < c.last - c.n_prescribed; ++k)
       {
         c.f[k] -= cm * c.v[k];
-        e.damping_work += cm * norm_square(c.v[k]) * dt;
+        e.damping_work += cm * 0.5 * dot(previous.committed[k] + c.v[k], c.v[k]) * dt;
+        previous.trial[k] = c.v[k];
       }
   }
 } // namespace wirefem::discrete
@@ -151,11 +187,44 @@ namespace wirefem::discrete
   void BendingTerm::save(std::ostream &out) const
   {
     io::write_vector(out, state, 0, state.size());
+    if (!previous.empty())
+      io::write_vector(out, previous.committed, 0, previous.committed.size());
   }
 
   void BendingTerm::load(std::istream &in)
   {
     io::read_vector(in, state);
     trial_state = state;
+    if (!previous.empty())
+      {
+        io::read_vector(in, previous.committed);
+        previous.trial = previous.committed;
+      }
+  }
+
+  void StretchingTerm::save(std::ostream &out) const
+  {
+    if (!previous.empty())
+      io::write_vector(out, previous.committed, 0, previous.committed.size());
+  }
+
+  void StretchingTerm::load(std::istream &in)
+  {
+    if (!previous.empty())
+      {
+        io::read_vector(in, previous.committed);
+        previous.trial = previous.committed;
+      }
+  }
+
+  void DampingTerm::save(std::ostream &out) const
+  {
+    io::write_vector(out, previous.committed, 0, previous.committed.size());
+  }
+
+  void DampingTerm::load(std::istream &in)
+  {
+    io::read_vector(in, previous.committed);
+    previous.trial = previous.committed;
   }
 } // namespace wirefem::discrete

@@ -43,11 +43,11 @@ namespace wirefem::fem
     /// Everything an evaluation of the residual produces.
     struct Evaluation
     {
-      dealii::Vector<double> residual; ///< full, all dofs (reactions at prescribed dofs)
+      dealii::Vector<double> residual;    ///< full, all dofs (reactions at prescribed dofs)
       dealii::Vector<double> force;       ///< conservative internal + contact forces, full
       dealii::Vector<double> dissipative; ///< viscous + friction forces, full
       dealii::Vector<double> friction;    ///< friction forces, full
-      std::vector<PointState> state;   ///< per cell and quadrature point
+      std::vector<PointState> state;      ///< per cell and quadrature point
       std::vector<double> node_contact_force;
       struct Pair
       {
@@ -79,9 +79,9 @@ namespace wirefem::fem
     ContactSettings wall_settings, self_settings;
 
     unsigned int n_cells = 0, n_nodes = 0, n_local = 0;
-    std::vector<double> node_S;                 // material coordinate of node k (sorted)
+    std::vector<double> node_S;                       // material coordinate of node k (sorted)
     std::vector<std::vector<unsigned int>> cell_node; // node of local node a
-    double a_left = 0, a_right = 0;             // material coordinates of the inlets at t = 0
+    double a_left = 0, a_right = 0;                   // material coordinates of the inlets at t = 0
     double min_spacing = 0;
 
     // Generalized-alpha.
@@ -119,10 +119,7 @@ namespace wirefem::fem
     void free_range(double time, int &first, int &last) const;
     void prescribe(double time, dealii::Vector<double> &x, dealii::Vector<double> *vel,
                    dealii::Vector<double> *acc, int first, int last) const;
-    Vec2 position(const dealii::Vector<double> &x, unsigned int k) const
-    {
-      return {x[3 * k], x[3 * k + 1]};
-    }
+    Vec2 position(const dealii::Vector<double> &x, unsigned int k) const { return {x[3 * k], x[3 * k + 1]}; }
     double node_weight(unsigned int k) const
     {
       const double l = k > 0 ? node_S[k] - node_S[k - 1] : 0.0;
@@ -259,14 +256,15 @@ namespace wirefem::fem
       for (unsigned int i = 0; i <= p; ++i)
         for (unsigned int j = 0; j <= p; ++j)
           for (unsigned int c = 0; c < 3; ++c)
-            element_mass[(3 * i + c) * nd + 3 * j + c] +=
-                mass_shape.weight[q] * mass_shape.value(q, i) * mass_shape.value(q, j) * (c < 2 ? rhoA : rhoI);
+            element_mass[(3 * i + c) * nd + 3 * j + c] += mass_shape.weight[q] * mass_shape.value(q, i) *
+                                                          mass_shape.value(q, j) * (c < 2 ? rhoA : rhoI);
 
     // Section and material.
     const auto &w = s.wire;
     section.EA = w.axial_stiffness;
-    section.GA = s.fem.formulation == scene::Formulation::kirchhoff ? s.fem.kirchhoff_penalty * w.axial_stiffness
-                                                                    : s.fem.shear_stiffness;
+    section.GA = s.fem.formulation == scene::Formulation::kirchhoff
+                     ? s.fem.kirchhoff_penalty * w.axial_stiffness
+                     : s.fem.shear_stiffness;
     // The dashpots of the discrete model in the continuum limit.
     section.axial_viscosity = s.discrete.axial_damping * s.discrete.segment_length;
     section.bending_viscosity = s.discrete.rotational_damping * s.discrete.segment_length;
@@ -279,7 +277,8 @@ namespace wirefem::fem
                                                  pl.hardening)
                   : material::MomentCurvatureLaw(w.bending_stiffness);
 
-    effects = {"stretching", s.fem.formulation == scene::Formulation::kirchhoff ? "shear constraint" : "shear"};
+    effects = {"stretching",
+               s.fem.formulation == scene::Formulation::kirchhoff ? "shear constraint" : "shear"};
     if (w.bending_stiffness > 0)
       effects.push_back("bending");
     if (plastic)
@@ -403,7 +402,8 @@ namespace wirefem::fem
   {
     const double speed = channels.injection_speed(time);
     const double ramp = scene.injection.ramp_time;
-    const double accel = time < ramp ? 0.5 * scene.injection.speed * M_PI / ramp * std::sin(M_PI * time / ramp) : 0;
+    const double accel =
+        time < ramp ? 0.5 * scene.injection.speed * M_PI / ramp * std::sin(M_PI * time / ramp) : 0;
     for (unsigned int k = 0; k < n_nodes; ++k)
       {
         const int ki = static_cast<int>(k);
@@ -599,7 +599,8 @@ namespace wirefem::fem
               const std::array<Vec2, 3> x{{position(u1, node), position(u1, seg), position(u1, seg + 1)}};
               const std::array<Vec2, 3> w0{{vel0(node), vel0(seg), vel0(seg + 1)}};
               double tc;
-              const bool touch = point_segment_contact(self_settings, 0.5 * node_weight(node), x, w0, c_vel, cc, tc, fs);
+              const bool touch =
+                  point_segment_contact(self_settings, 0.5 * node_weight(node), x, w0, c_vel, cc, tc, fs);
               const bool next_reports = seg + 1 <= last_segment && std::abs(seg + 1 - node) > exclusion;
               if (tc >= 1.0 && next_reports)
                 continue;
@@ -620,7 +621,8 @@ namespace wirefem::fem
       K.compress(dealii::VectorOperation::add);
   }
 
-  double RodModel::Impl::kinetic_energy(const dealii::Vector<double> &vel, const int first, const int last) const
+  double RodModel::Impl::kinetic_energy(const dealii::Vector<double> &vel, const int first,
+                                        const int last) const
   {
     if (!inertia)
       return 0.0;
@@ -818,9 +820,10 @@ namespace wirefem::fem
     return false;
   }
 
-  void RodModel::Impl::commit(const double step, const int first, const int last, const dealii::Vector<double> &u1,
-                              const dealii::Vector<double> &v1, const dealii::Vector<double> &a1, Evaluation &e,
-                              const int work_first, const int work_last)
+  void RodModel::Impl::commit(const double step, const int first, const int last,
+                              const dealii::Vector<double> &u1, const dealii::Vector<double> &v1,
+                              const dealii::Vector<double> &a1, Evaluation &e, const int work_first,
+                              const int work_last)
   {
     const unsigned int n = u.size();
     // Wire that entered the system this step brings its kinetic energy.
@@ -854,13 +857,22 @@ namespace wirefem::fem
         ledger.injection_work += work[side];
         window[side].add(du, work[side]);
       }
-    // Friction: work of the friction forces (at the end of the step) against the motion.
-    double friction = 0;
+    // Friction and dashpots: the work of their nodal forces (at the end of
+    // the step) against the motion of the nodes. For the dashpots this is
+    // N_v (dN/du) du rather than N_v d(eps): the two differ at second order
+    // in the step because the strains are nonlinear in u, and only the
+    // first is the energy the time step actually removed (the difference
+    // made a first-order drift of the balance in dynamic scenes).
+    double friction = 0, viscous = 0;
     for (unsigned int i = 0; i < n; ++i)
-      friction += e.friction[i] * (u1[i] - u[i]);
+      {
+        const double du_i = u1[i] - u[i];
+        friction += e.friction[i] * du_i;
+        viscous += (e.dissipative[i] - e.friction[i]) * du_i;
+      }
     ledger.friction += friction;
     ledger.plastic += e.plastic;
-    ledger.damping += e.viscous;
+    ledger.damping += viscous;
     ledger.stretching = e.axial;
     ledger.shear = e.shear;
     ledger.bending = e.bending;
@@ -890,11 +902,10 @@ namespace wirefem::fem
   std::string RodModel::description() const
   {
     const auto &s = impl->scene.fem;
-    const std::string integrator =
-        s.integrator == scene::Integrator::quasi_static ? "quasi-static"
-        : s.integrator == scene::Integrator::explicit_lumped
-            ? "explicit (lumped mass)"
-            : fmt::format("generalized-alpha rho = {}", s.spectral_radius);
+    const std::string integrator = s.integrator == scene::Integrator::quasi_static ? "quasi-static"
+                                   : s.integrator == scene::Integrator::explicit_lumped
+                                       ? "explicit (lumped mass)"
+                                       : fmt::format("generalized-alpha rho = {}", s.spectral_radius);
     return fmt::format("{} rod, degree {}, h = {}, {} dofs, {}, dt {} {:.4g}",
                        s.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner", s.degree,
                        s.element_length, impl->dof_handler.n_dofs(), integrator,
@@ -933,10 +944,11 @@ namespace wirefem::fem
           }
         step *= 0.5;
         if (step < m.scene.fem.minimum_time_step)
-          throw std::runtime_error(fmt::format(
-              "Newton did not converge at t = {:.6g} even with the time step cut to {:.3g} (below FEM/Minimum "
-              "time step {:.3g}); last residual {:.3g}",
-              m.t, 2.0 * step, m.scene.fem.minimum_time_step, m.history.empty() ? NAN : m.history.back()));
+          throw std::runtime_error(fmt::format("Newton did not converge at t = {:.6g} even with the time "
+                                               "step cut to {:.3g} (below FEM/Minimum "
+                                               "time step {:.3g}); last residual {:.3g}",
+                                               m.t, 2.0 * step, m.scene.fem.minimum_time_step,
+                                               m.history.empty() ? NAN : m.history.back()));
       }
     if (const char *log = std::getenv("WIREFEM_NEWTON_LOG"); log && std::string(log) == "all")
       {
@@ -949,17 +961,50 @@ namespace wirefem::fem
     m.dt = m.history.size() <= 4 ? std::min(m.dt_max, 1.5 * step) : step;
   }
 
-  double RodModel::time() const { return impl->t; }
-  double RodModel::time_step() const { return impl->dt; }
-  unsigned long RodModel::n_steps() const { return impl->steps; }
-  double RodModel::injected_length() const { return impl->channels.injected_length(impl->t); }
-  double RodModel::force_left() const { return impl->window[0].mean(); }
-  double RodModel::force_right() const { return impl->window[1].mean(); }
-  const simulation::EnergyLedger &RodModel::energies() const { return impl->ledger; }
-  simulation::StepReport RodModel::report() const { return impl->last_report; }
-  const std::vector<std::string> &RodModel::active_effects() const { return impl->effects; }
-  const std::vector<double> &RodModel::newton_history() const { return impl->history; }
-  unsigned long RodModel::n_step_cuts() const { return impl->cuts; }
+  double RodModel::time() const
+  {
+    return impl->t;
+  }
+  double RodModel::time_step() const
+  {
+    return impl->dt;
+  }
+  unsigned long RodModel::n_steps() const
+  {
+    return impl->steps;
+  }
+  double RodModel::injected_length() const
+  {
+    return impl->channels.injected_length(impl->t);
+  }
+  double RodModel::force_left() const
+  {
+    return impl->window[0].mean();
+  }
+  double RodModel::force_right() const
+  {
+    return impl->window[1].mean();
+  }
+  const simulation::EnergyLedger &RodModel::energies() const
+  {
+    return impl->ledger;
+  }
+  simulation::StepReport RodModel::report() const
+  {
+    return impl->last_report;
+  }
+  const std::vector<std::string> &RodModel::active_effects() const
+  {
+    return impl->effects;
+  }
+  const std::vector<double> &RodModel::newton_history() const
+  {
+    return impl->history;
+  }
+  unsigned long RodModel::n_step_cuts() const
+  {
+    return impl->cuts;
+  }
 
   double RodModel::step_checking_tangent()
   {
@@ -968,7 +1013,10 @@ namespace wirefem::fem
     step();
     return impl->tangent_error;
   }
-  unsigned int RodModel::n_dofs() const { return impl->dof_handler.n_dofs(); }
+  unsigned int RodModel::n_dofs() const
+  {
+    return impl->dof_handler.n_dofs();
+  }
 
   bool RodModel::finite() const
   {

@@ -56,12 +56,14 @@ namespace wirefem::contact
         r.history.elongation = -r.force / c.tangential_stiffness;
         r.history.sliding = true;
       }
-    // Energy: the previous force -k_t u_old acted over the relative
-    // displacement v_t dt that brought the contact here, taking k_t u_old v_t dt
-    // from the wire; what the spring did not store is dissipated. Summed over
-    // a contact's life this is exactly the work friction took from the wire.
+    // Energy: over the relative displacement v_t dt that brought the contact
+    // here the friction force went from -k_t u_old to the new force; with
+    // the central-difference scheme the kinetic energy changes by the work
+    // of the mean of the two (trapezoidal rule), so that is the work taken
+    // from the wire. What the spring did not store is dissipated: zero while
+    // the contact sticks, whatever the step.
     const double k = c.tangential_stiffness;
-    r.dissipated = k * old.elongation * v_t * dt -
+    r.dissipated = 0.5 * (k * old.elongation - r.force) * v_t * dt -
                    0.5 * k * (r.history.elongation * r.history.elongation - old.elongation * old.elongation);
     return r;
   }

@@ -14,23 +14,44 @@
 
 namespace wirefem::discrete
 {
+  /// The dissipative force of the previous step, per node or segment, for
+  /// the energy ledger: the central-difference scheme changes the kinetic
+  /// energy by the work of the mean of two successive forces (trapezoidal
+  /// rule), so a dashpot dissipates c (rate_{n-1} + rate_n)/2 rate_n dt, not
+  /// c rate_n^2 dt; the difference grows with every step of a chattering
+  /// packing. Index k becomes active once and stays active, so a new entry
+  /// starts from a zero force.
+  template <typename T>
+  struct PreviousRates
+  {
+    std::vector<T> committed, trial;
+    void resize(const int capacity)
+    {
+      committed.assign(capacity, T{});
+      trial.assign(capacity, T{});
+    }
+    bool empty() const { return committed.empty(); }
+    void commit() { committed.swap(trial); }
+  };
+
   /// Tensile springs F = -k1 (lambda_0 - lambda) on every active segment,
   /// with an optional dashpot c_a d(lambda)/dt in parallel (internal: it
   /// damps axial waves and leaves rigid sliding of the wire alone).
   class StretchingTerm : public Term
   {
   public:
-    explicit StretchingTerm(double k1, double axial_damping = 0.0)
-      : k1(k1)
-      , damping(axial_damping)
-    {
-    }
+    /// capacity: number of nodes of the chain (needed with a dashpot).
+    explicit StretchingTerm(double k1, double axial_damping = 0.0, int capacity = 0);
     const char *name() const override { return "stretching"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+    void commit() override;
+    void save(std::ostream &out) const override;
+    void load(std::istream &in) override;
 
   private:
     double k1;
     double damping;
+    PreviousRates<double> previous; // dashpot rate per segment
   };
 
   /// Rotational springs M = -k2 (zeta - zeta_p) at every interior active
@@ -57,6 +78,7 @@ namespace wirefem::discrete
     double damping;
     std::vector<material::PlasticState> state;       // committed, per node
     std::vector<material::PlasticState> trial_state; // from the last add_forces
+    PreviousRates<double> previous;                  // dashpot rate per node
   };
 
   /// The excluded volume of the wire at the scale of one node: a wire of
@@ -86,15 +108,16 @@ namespace wirefem::discrete
   class DampingTerm : public Term
   {
   public:
-    explicit DampingTerm(double gamma)
-      : gamma(gamma)
-    {
-    }
+    DampingTerm(double gamma, int capacity);
     const char *name() const override { return "damping"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+    void commit() override;
+    void save(std::ostream &out) const override;
+    void load(std::istream &in) override;
 
   private:
     double gamma;
+    PreviousRates<geometry::Vec2> previous; // velocity per node
   };
 
   /// Parameters shared by the contact terms.
