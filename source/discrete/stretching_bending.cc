@@ -1,6 +1,7 @@
 #include <wirefem/discrete/terms.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace wirefem::discrete
 {
@@ -49,7 +50,11 @@ namespace wirefem::discrete
     , damping(axial_damping)
   {
     if (damping > 0.0)
-      previous.resize(capacity);
+      {
+        if (capacity <= 0)
+          throw std::invalid_argument("StretchingTerm: a dashpot needs the chain capacity");
+        previous.resize(capacity);
+      }
   }
 
   void StretchingTerm::commit()
@@ -60,8 +65,6 @@ namespace wirefem::discrete
 
   void StretchingTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
-    if (damping > 0.0 && previous.committed.size() < static_cast<std::size_t>(c.capacity()))
-      previous.resize(c.capacity());
     for (int k = c.first; k < c.last - 1; ++k)
       {
         const Vec2 d = c.x[k + 1] - c.x[k];
@@ -169,8 +172,8 @@ namespace wirefem::discrete
   void DampingTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
     const double cm = gamma * c.node_mass;
-    for (int k = c.first; k < c.last; ++k)
-      previous.trial[k] = Vec2{}; // prescribed nodes feel no damping
+    for (int i = 0; i < c.n_prescribed; ++i)
+      previous.trial[c.first + i] = previous.trial[c.last - 1 - i] = Vec2{}; // no damping there
     for (int k = c.first + c.n_prescribed; k < c.last - c.n_prescribed; ++k)
       {
         c.f[k] -= cm * c.v[k];
@@ -184,47 +187,56 @@ namespace wirefem::discrete
 
 namespace wirefem::discrete
 {
+  namespace
+  {
+    /// The previous rates of a dashpot, when it has them.
+    template <typename T>
+    void save_rates(std::ostream &out, const PreviousRates<T> &r)
+    {
+      if (!r.empty())
+        io::write_vector(out, r.committed, 0, r.committed.size());
+    }
+
+    template <typename T>
+    void load_rates(std::istream &in, PreviousRates<T> &r)
+    {
+      if (r.empty())
+        return;
+      io::read_vector(in, r.committed);
+      r.trial = r.committed;
+    }
+  } // namespace
+
   void BendingTerm::save(std::ostream &out) const
   {
     io::write_vector(out, state, 0, state.size());
-    if (!previous.empty())
-      io::write_vector(out, previous.committed, 0, previous.committed.size());
+    save_rates(out, previous);
   }
 
   void BendingTerm::load(std::istream &in)
   {
     io::read_vector(in, state);
     trial_state = state;
-    if (!previous.empty())
-      {
-        io::read_vector(in, previous.committed);
-        previous.trial = previous.committed;
-      }
+    load_rates(in, previous);
   }
 
   void StretchingTerm::save(std::ostream &out) const
   {
-    if (!previous.empty())
-      io::write_vector(out, previous.committed, 0, previous.committed.size());
+    save_rates(out, previous);
   }
 
   void StretchingTerm::load(std::istream &in)
   {
-    if (!previous.empty())
-      {
-        io::read_vector(in, previous.committed);
-        previous.trial = previous.committed;
-      }
+    load_rates(in, previous);
   }
 
   void DampingTerm::save(std::ostream &out) const
   {
-    io::write_vector(out, previous.committed, 0, previous.committed.size());
+    save_rates(out, previous);
   }
 
   void DampingTerm::load(std::istream &in)
   {
-    io::read_vector(in, previous.committed);
-    previous.trial = previous.committed;
+    load_rates(in, previous);
   }
 } // namespace wirefem::discrete

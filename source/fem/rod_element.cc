@@ -128,12 +128,6 @@ namespace wirefem::fem
               values->shear_energy += w * 0.5 * section.GA * gamma * gamma;
               values->bending_energy += w * law.elastic_energy(kappa_value, m.state);
               values->plastic_work += w * m.plastic_work;
-              if (dt > 0.0)
-                {
-                  const double de = eps - old[q].axial_strain, dk = kappa_value - old[q].curvature;
-                  values->viscous_work +=
-                    w * (section.axial_viscosity * de * de + section.bending_viscosity * dk * dk) / dt;
-                }
             }
         }
     }
@@ -141,14 +135,14 @@ namespace wirefem::fem
 
   void evaluate_rod_element(const ElementShape &shape, const SectionProperties &section,
                             const material::MomentCurvatureLaw &law, const double *dofs,
-                            const PointState *old, const double dt, const bool want_tangent, ElementResult &out,
-                            const double viscous_scale)
+                            const PointState *old, const double dt, const bool want_tangent,
+                            ElementResult &out, const double viscous_scale)
   {
     const unsigned int n = 3 * shape.n_nodes;
     out.residual.assign(n, 0.0);
     out.viscous_residual.assign(n, 0.0);
     out.state.assign(shape.n_q, PointState{});
-    out.axial_energy = out.shear_energy = out.bending_energy = out.plastic_work = out.viscous_work = 0.0;
+    out.axial_energy = out.shear_energy = out.bending_energy = out.plastic_work = 0.0;
     residual<double>(shape, section, law, dofs, old, dt, 1.0, out.residual.data(), &out);
     out.tangent.clear();
     if (!want_tangent)
@@ -165,7 +159,8 @@ namespace wirefem::fem
   }
 
   double rod_element_energy(const ElementShape &shape, const SectionProperties &section,
-                            const material::MomentCurvatureLaw &law, const double *dofs, const PointState *old)
+                            const material::MomentCurvatureLaw &law, const double *dofs,
+                            const PointState *old)
   {
     double e = 0.0;
     for (unsigned int q = 0; q < shape.n_q; ++q)

@@ -55,7 +55,7 @@ namespace wirefem::fem
         double s, t, fn;
       };
       std::vector<Pair> pairs;
-      double axial = 0, shear = 0, bending = 0, contact = 0, plastic = 0, viscous = 0;
+      double axial = 0, shear = 0, bending = 0, contact = 0, plastic = 0;
       double max_overlap = 0;
       int n_wall = 0;
     };
@@ -468,7 +468,7 @@ namespace wirefem::fem
     e.state.assign(qp.size(), PointState{});
     e.node_contact_force.assign(n_nodes, 0.0);
     e.pairs.clear();
-    e.axial = e.shear = e.bending = e.contact = e.plastic = e.viscous = e.max_overlap = 0;
+    e.axial = e.shear = e.bending = e.contact = e.plastic = e.max_overlap = 0;
     e.n_wall = 0;
     if (want_tangent)
       {
@@ -543,7 +543,6 @@ namespace wirefem::fem
           e.shear += er.shear_energy;
           e.bending += er.bending_energy;
           e.plastic += er.plastic_work;
-          e.viscous += er.viscous_work;
         }
     }
 

@@ -37,9 +37,9 @@ namespace wirefem::fem
     unsigned int n_nodes = 0;
     unsigned int n_q = 0;
     double length = 0.0;
-    std::vector<double> weight; ///< quadrature weight times length
-    std::vector<double> N;      ///< N[q * n_nodes + a]
-    std::vector<double> dN;     ///< dN/dS, same layout
+    std::vector<double> weight;        ///< quadrature weight times length
+    std::vector<double> N;             ///< N[q * n_nodes + a]
+    std::vector<double> dN;            ///< dN/dS, same layout
     std::vector<double> node_position; ///< rest position of node a in [0, 1] along the element
 
     double value(unsigned int q, unsigned int a) const { return N[q * n_nodes + a]; }
@@ -75,9 +75,8 @@ namespace wirefem::fem
     std::vector<double> tangent;
     double axial_energy = 0.0;
     double shear_energy = 0.0;
-    double bending_energy = 0.0; ///< elastic part 1/2 EI (kappa - kappa_p)^2
-    double plastic_work = 0.0;   ///< this increment
-    double viscous_work = 0.0;   ///< this increment: dashpot stresses times strain increments
+    double bending_energy = 0.0;   ///< elastic part 1/2 EI (kappa - kappa_p)^2
+    double plastic_work = 0.0;     ///< this increment
     std::vector<PointState> state; ///< updated history
   };
 
@@ -95,5 +94,6 @@ namespace wirefem::fem
   /// plastic strains (no return mapping): the potential of the residual in
   /// the elastic range (finite-difference tests).
   double rod_element_energy(const ElementShape &shape, const SectionProperties &section,
-                            const material::MomentCurvatureLaw &law, const double *dofs, const PointState *old);
+                            const material::MomentCurvatureLaw &law, const double *dofs,
+                            const PointState *old);
 } // namespace wirefem::fem
