@@ -79,7 +79,7 @@ namespace wirefem::discrete
         wall.coefficients.mu_dynamic = fr.wall_dynamic_coefficient;
         wall.friction = keep || fr.wall_static_coefficient > 0.0;
         any_friction |= wall.friction;
-        terms.push_back(std::make_unique<WallContactTerm>(radius, wall));
+        terms.push_back(std::make_unique<WallContactTerm>(radius, wall, nodes.capacity()));
         effects.push_back("wall contact");
       }
     if (con.self_contact)
@@ -90,7 +90,7 @@ namespace wirefem::discrete
         self.friction = keep || fr.static_coefficient > 0.0;
         any_friction |= self.friction;
         const int exclusion = std::max(1, static_cast<int>(std::ceil(con.exclusion_length / lambda0 - 1e-9)));
-        auto s = std::make_unique<SelfContactTerm>(self, con.skin, exclusion);
+        auto s = std::make_unique<SelfContactTerm>(self, con.skin, exclusion, nodes.capacity());
         self_contact = s.get();
         terms.push_back(std::move(s));
         const double zeta_max = std::min(2.0 * lambda0 / diameter, 2.0 * M_PI / 3.0);
@@ -243,7 +243,7 @@ namespace wirefem::discrete
 
   namespace
   {
-    constexpr std::uint64_t checkpoint_magic = 0x77697265666d3032ull; // "wirefm02"
+    constexpr std::uint64_t checkpoint_magic = 0x77697265666d3033ull; // "wirefm03"
   }
 
   void ChainModel::save(std::ostream &out) const

@@ -3,15 +3,55 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace wirefem::discrete
 {
   using geometry::Vec2;
 
-  WallContactTerm::WallContactTerm(const double radius, const ContactLaw &law)
+  void FrictionWork::begin(const Chain &c)
+  {
+    std::fill(force.trial.begin() + c.first, force.trial.begin() + c.last, Vec2{});
+    stored_trial = 0.0;
+  }
+
+  double FrictionWork::dissipated(const Chain &c, const double dt) const
+  {
+    double work = 0.0; // done on the wire
+    for (int k = c.first; k < c.last; ++k)
+      work += 0.5 * dot(force.committed[k] + force.trial[k], c.v[k]) * dt;
+    return -work - (stored_trial - stored);
+  }
+
+  void FrictionWork::save(std::ostream &out) const
+  {
+    force.save(out);
+    io::write_raw(out, stored);
+  }
+
+  void FrictionWork::load(std::istream &in)
+  {
+    force.load(in);
+    stored = stored_trial = io::read_raw<double>(in);
+  }
+
+  namespace
+  {
+    void require_capacity(const ContactLaw &law, const int capacity, const char *term)
+    {
+      if (law.friction && capacity <= 0)
+        throw std::invalid_argument(std::string(term) + ": friction needs the chain capacity");
+    }
+  } // namespace
+
+  WallContactTerm::WallContactTerm(const double radius, const ContactLaw &law, const int capacity)
     : radius(radius)
     , law(law)
   {
+    require_capacity(law, capacity, "WallContactTerm");
+    if (law.friction)
+      friction_work.resize(capacity);
   }
 
   void WallContactTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
@@ -19,6 +59,8 @@ namespace wirefem::discrete
     const double half_d = 0.5 * law.diameter;
     const double corner_x = std::sqrt(radius * radius - half_d * half_d);
     trial_history.clear();
+    if (law.friction)
+      friction_work.begin(c);
     for (int k = c.first; k < c.last; ++k)
       {
         const Vec2 p = c.x[k];
@@ -57,32 +99,36 @@ namespace wirefem::discrete
             const auto r = contact::friction_update(
                 law.coefficients, fn, vt, dt, it == history.end() ? contact::FrictionHistory{} : it->second);
             c.f[k] += r.force * t;
-            e.friction_work += r.dissipated;
-            e.friction_stored +=
+            friction_work.add_force(k, r.force * t);
+            const double stored =
                 0.5 * law.coefficients.tangential_stiffness * r.history.elongation * r.history.elongation;
+            e.friction_stored += stored;
+            friction_work.add_stored(stored);
             trial_history[k] = r.history;
           }
       }
+    // Nodes that left the wall released their sticking spring: its energy
+    // is no longer stored, so it counts as dissipated.
     if (law.friction)
-      {
-        // Nodes that left the wall release their sticking spring.
-        const double kt = law.coefficients.tangential_stiffness;
-        for (const auto &h : history)
-          if (trial_history.find(h.first) == trial_history.end())
-            e.friction_work += 0.5 * kt * h.second.elongation * h.second.elongation;
-      }
+      e.friction_work += friction_work.dissipated(c, dt);
   }
 
   void WallContactTerm::commit()
   {
     history.swap(trial_history);
+    if (law.friction)
+      friction_work.commit();
   }
 
-  SelfContactTerm::SelfContactTerm(const ContactLaw &law, const double skin, const int exclusion)
+  SelfContactTerm::SelfContactTerm(const ContactLaw &law, const double skin, const int exclusion,
+                                   const int capacity)
     : law(law)
     , exclusion(exclusion)
     , broad(law.diameter, skin, exclusion)
   {
+    require_capacity(law, capacity, "SelfContactTerm");
+    if (law.friction)
+      friction_work.resize(capacity);
   }
 
   void SelfContactTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
@@ -90,6 +136,8 @@ namespace wirefem::discrete
     broad.update(c.x, c.first, c.last);
     active.clear();
     trial_history.clear();
+    if (law.friction)
+      friction_work.begin(c);
     const int last_segment = c.last - 2;
     for (const auto &pair : broad.candidates())
       {
@@ -127,10 +175,16 @@ namespace wirefem::discrete
                   break;
                 }
             const auto r = contact::friction_update(law.coefficients, fn, vt, dt, old);
-            fa += r.force * t;
-            e.friction_work += r.dissipated;
-            e.friction_stored +=
+            const Vec2 ft = r.force * t;
+            fa += ft;
+            friction_work.add_force(i, (1.0 - cp.s) * ft);
+            friction_work.add_force(i + 1, cp.s * ft);
+            friction_work.add_force(j, -(1.0 - cp.t) * ft);
+            friction_work.add_force(j + 1, -cp.t * ft);
+            const double stored =
                 0.5 * law.coefficients.tangential_stiffness * r.history.elongation * r.history.elongation;
+            e.friction_stored += stored;
+            friction_work.add_stored(stored);
             trial_history[key(i, j)] = {r.history, false};
           }
         c.f[i] += (1.0 - cp.s) * fa;
@@ -144,20 +198,20 @@ namespace wirefem::discrete
         active.push_back({i, j, cp.s, cp.t, fn});
       }
     e.n_self_contacts += static_cast<int>(active.size());
-    // Pairs that separated (or whose history no current pair took) release
-    // their sticking spring: that energy is dissipated.
-    const double kt = law.coefficients.tangential_stiffness;
+    // Pairs that separated (or whose history no current pair took) released
+    // their sticking spring: its energy is no longer stored, so it counts as
+    // dissipated.
+    if (law.friction)
+      e.friction_work += friction_work.dissipated(c, dt);
     for (auto &h : history)
-      {
-        if (!h.second.taken)
-          e.friction_work += 0.5 * kt * h.second.history.elongation * h.second.history.elongation;
-        h.second.taken = false; // add_forces may be evaluated again before commit
-      }
+      h.second.taken = false; // add_forces may be evaluated again before commit
   }
 
   void SelfContactTerm::commit()
   {
     history.swap(trial_history);
+    if (law.friction)
+      friction_work.commit();
   }
 } // namespace wirefem::discrete
 
@@ -168,21 +222,29 @@ namespace wirefem::discrete
   void WallContactTerm::save(std::ostream &out) const
   {
     io::write_map(out, history);
+    if (law.friction)
+      friction_work.save(out);
   }
 
   void WallContactTerm::load(std::istream &in)
   {
     io::read_map(in, history);
+    if (law.friction)
+      friction_work.load(in);
   }
 
   void SelfContactTerm::save(std::ostream &out) const
   {
     io::write_map(out, history);
+    if (law.friction)
+      friction_work.save(out);
   }
 
   void SelfContactTerm::load(std::istream &in)
   {
     io::read_map(in, history);
+    if (law.friction)
+      friction_work.load(in);
     broad.invalidate();
   }
 } // namespace wirefem::discrete

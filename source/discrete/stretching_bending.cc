@@ -187,56 +187,36 @@ namespace wirefem::discrete
 
 namespace wirefem::discrete
 {
-  namespace
-  {
-    /// The previous rates of a dashpot, when it has them.
-    template <typename T>
-    void save_rates(std::ostream &out, const PreviousRates<T> &r)
-    {
-      if (!r.empty())
-        io::write_vector(out, r.committed, 0, r.committed.size());
-    }
-
-    template <typename T>
-    void load_rates(std::istream &in, PreviousRates<T> &r)
-    {
-      if (r.empty())
-        return;
-      io::read_vector(in, r.committed);
-      r.trial = r.committed;
-    }
-  } // namespace
-
   void BendingTerm::save(std::ostream &out) const
   {
     io::write_vector(out, state, 0, state.size());
-    save_rates(out, previous);
+    previous.save(out);
   }
 
   void BendingTerm::load(std::istream &in)
   {
     io::read_vector(in, state);
     trial_state = state;
-    load_rates(in, previous);
+    previous.load(in);
   }
 
   void StretchingTerm::save(std::ostream &out) const
   {
-    save_rates(out, previous);
+    previous.save(out);
   }
 
   void StretchingTerm::load(std::istream &in)
   {
-    load_rates(in, previous);
+    previous.load(in);
   }
 
   void DampingTerm::save(std::ostream &out) const
   {
-    save_rates(out, previous);
+    previous.save(out);
   }
 
   void DampingTerm::load(std::istream &in)
   {
-    load_rates(in, previous);
+    previous.load(in);
   }
 } // namespace wirefem::discrete
