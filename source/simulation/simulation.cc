@@ -79,17 +79,18 @@ namespace wirefem::simulation
       const auto &i = s.injection;
       const auto &d = s.discrete;
       return fmt::format(
-          "{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}",
-          int(s.model), s.cavity.radius, w.axial_stiffness, w.bending_stiffness, w.mass_per_length,
-          w.plasticity.enabled, w.plasticity.yield_curvature, w.plasticity.hardening_slope,
-          int(w.plasticity.hardening), c.wall_contact, c.self_contact, c.normal_stiffness, c.skin,
-          c.exclusion_length, f.static_coefficient, f.dynamic_coefficient, f.wall_static_coefficient,
-          f.wall_dynamic_coefficient, f.threshold_velocity, f.tangential_stiffness_ratio, i.speed,
-          i.ramp_time, i.seed, i.perturbation, d.segment_length, d.time_step, d.time_step_factor,
-          d.translational_damping, d.rotational_damping, s.keep_neutral_effects, d.axial_damping) +
+                 "{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}",
+                 int(s.model), s.cavity.radius, w.axial_stiffness, w.bending_stiffness, w.mass_per_length,
+                 w.plasticity.enabled, w.plasticity.yield_curvature, w.plasticity.hardening_slope,
+                 int(w.plasticity.hardening), c.wall_contact, c.self_contact, c.normal_stiffness, c.skin,
+                 c.exclusion_length, f.static_coefficient, f.dynamic_coefficient, f.wall_static_coefficient,
+                 f.wall_dynamic_coefficient, f.threshold_velocity, f.tangential_stiffness_ratio, i.speed,
+                 i.ramp_time, i.seed, i.perturbation, d.segment_length, d.time_step, d.time_step_factor,
+                 d.translational_damping, d.rotational_damping, s.keep_neutral_effects, d.axial_damping) +
              fmt::format(" {} {} {} {} {} {} {} {} {} {}", int(s.fem.formulation), s.fem.degree,
-                         s.fem.element_length, s.fem.shear_stiffness, s.fem.kirchhoff_penalty, int(s.fem.integrator),
-                         s.fem.spectral_radius, s.fem.time_step, s.fem.minimum_time_step, s.fem.newton_tolerance);
+                         s.fem.element_length, s.fem.shear_stiffness, s.fem.kirchhoff_penalty,
+                         int(s.fem.integrator), s.fem.spectral_radius, s.fem.time_step,
+                         s.fem.minimum_time_step, s.fem.newton_tolerance);
     }
 
     void write_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, const LoopState &loop,
@@ -186,6 +187,9 @@ namespace wirefem::simulation
                                model.injected_length(), model.n_steps());
     io::SeriesWriter series((dir / "series.csv").string(), columns, options.resume ? model.time() : -1.0);
     io::Progress progress(scene.output.progress);
+    // Rate and ETA count what this process did (a resumed run starts late).
+    const unsigned long steps_at_start = model.n_steps();
+    const double phi_at_start = analysis::packing_density(model.injected_length(), r);
 
     RunResult result;
     auto &next_row = loop.next_row;
@@ -327,9 +331,8 @@ namespace wirefem::simulation
           {
             const double elapsed =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-            const double rate = model.n_steps() / std::max(elapsed, 1e-9);
-            const double phi0 = analysis::packing_density(2.0 * r, r);
-            const double eta = (phi > phi0) ? elapsed * (phi_max - phi) / (phi - phi0) : 0.0;
+            const double rate = (model.n_steps() - steps_at_start) / std::max(elapsed, 1e-9);
+            const double eta = (phi > phi_at_start) ? elapsed * (phi_max - phi) / (phi - phi_at_start) : 0.0;
             progress.update(fmt::format("phi {:.4f}  L {:.1f}  F {:.3g}  contacts {}  {:.0f} steps/s  "
                                         "ETA(phi_max) {:.0f} s",
                                         phi, L, force_mean, s.n_self_contacts + s.n_wall_contacts, rate,
