@@ -12,38 +12,6 @@ namespace wirefem::analysis
     return diameter * injected_length / (M_PI * radius * radius);
   }
 
-  int count_loops(const WireState &wire)
-  {
-    auto contacts = wire.self_contacts;
-    std::sort(contacts.begin(), contacts.end(),
-              [](const SelfContact &a, const SelfContact &b) { return a.s_a < b.s_a; });
-    std::vector<bool> taken(contacts.size(), false);
-    int clusters = 0;
-    const double gap = 2.0 * wire.diameter;
-    for (std::size_t i = 0; i < contacts.size(); ++i)
-      {
-        if (taken[i])
-          continue;
-        ++clusters;
-        // Grow the cluster: a flood fill over pairs adjacent on both wires.
-        std::vector<std::size_t> stack{i};
-        taken[i] = true;
-        while (!stack.empty())
-          {
-            const auto a = contacts[stack.back()];
-            stack.pop_back();
-            for (std::size_t j = 0; j < contacts.size(); ++j)
-              if (!taken[j] && std::abs(contacts[j].s_a - a.s_a) <= gap &&
-                  std::abs(contacts[j].s_b - a.s_b) <= gap)
-                {
-                  taken[j] = true;
-                  stack.push_back(j);
-                }
-          }
-      }
-    return clusters;
-  }
-
   namespace
   {
     // Polar angle swept (turns) along points[from] -> points[to].

@@ -4,16 +4,27 @@
 #include <wirefem/analysis/wire_state.h>
 
 #include <string>
+#include <vector>
 
 namespace wirefem::analysis
 {
   /// phi = d L / (pi r^2).
   double packing_density(double injected_length, double radius, double diameter = 1.0);
 
-  /// Number of loops. Provisional rule: each contiguous stretch of
-  /// self-contact (pairs whose contact points lie within 2 d of each other
-  /// along both wires) closes one loop.
+  /// Number of loops (SPEC section 7): faces of the planar map of the
+  /// centreline and its self-contacts (each a chord between its two contact
+  /// points) whose boundary is one contiguous stretch of wire closed by
+  /// exactly one contact. A stretch zipped shut along its length (a run of
+  /// contacts) is one loop: only its innermost chord closes an empty face.
+  /// A face that also touches another contact (a loop with a smaller loop
+  /// hanging into it, the gap between two touching strands) is not one.
   int count_loops(const WireState &wire);
+
+  /// The self-contacts of a wire from its geometry alone: pieces of the
+  /// centreline closer than d whose rest arc lengths are more than
+  /// `exclusion_length` apart, one contact per pair of pieces (a contact at
+  /// a shared point is reported once). For shapes that come without contacts.
+  std::vector<SelfContact> find_self_contacts(const WireState &wire, double exclusion_length = 3.0);
 
   struct Morphology
   {
