@@ -1,6 +1,7 @@
 // The wirefem executable: reads a scene, runs it, writes the output.
 // Exit status: 0 finished, 2 bad input, 3 stopped by a numerical limit,
 // 130 interrupted (a checkpoint was written; continue with --resume).
+#include <wirefem/analysis/shape_io.h>
 #include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/simulation.h>
 
@@ -9,12 +10,57 @@
 
 #include <iostream>
 
+namespace
+{
+  /// `wirefem analyze PATH`: loops, morphology, symmetry and phi of a shape
+  /// (CSV file or a run's output directory) as JSON on stdout.
+  int analyze(int argc, char **argv)
+  {
+    CLI::App app{"wirefem analyze: loops, morphology, symmetry and phi of a wire shape, as JSON.\n"
+                 "PATH is a CSV file (x,y per row in arc-length order) or a run's output directory."};
+    std::string path;
+    wirefem::analysis::ShapeOptions options;
+    app.add_option("path", path, "CSV file or output directory")->required();
+    app.add_option("--diameter", options.diameter, "Wire diameter in the units of the file (default 1)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--radius", options.cavity_radius, "Cavity radius in the units of the file")
+        ->check(CLI::PositiveNumber);
+    try
+      {
+        app.parse(argc, argv);
+      }
+    catch (const CLI::CallForHelp &e)
+      {
+        return app.exit(e);
+      }
+    catch (const CLI::ParseError &e)
+      {
+        std::cerr << "wirefem analyze: error: " << e.what() << " (see --help)\n";
+        return 2;
+      }
+    try
+      {
+        const auto wire = wirefem::analysis::read_shape(path, options);
+        std::cout << wirefem::analysis::analysis_report(wire, wire.cavity_radius > 0.0) << '\n';
+        return 0;
+      }
+    catch (const wirefem::analysis::ShapeError &e)
+      {
+        std::cerr << "wirefem analyze: error: " << e.what() << '\n';
+        return 2;
+      }
+  }
+} // namespace
+
 int main(int argc, char **argv)
 {
+  if (argc > 1 && std::string(argv[1]) == "analyze")
+    return analyze(argc - 1, argv + 1);
   // Trilinos (the FEM's matrices and direct solver) needs MPI; one thread.
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   CLI::App app{"wirefem: a wire pushed from two channels into a circular cavity until it jams.\n"
-               "Example: wirefem prm/classic.prm --set \"Contact/Friction/Static coefficient=0.2\""};
+               "Example: wirefem prm/classic.prm --set \"Contact/Friction/Static coefficient=0.2\"\n"
+               "Analysis of a shape or a finished run: wirefem analyze PATH (see wirefem analyze --help)"};
   std::string prm_file;
   std::vector<std::string> overrides;
   bool print = false;

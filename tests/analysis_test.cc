@@ -1,10 +1,14 @@
 // Analysis: the loop count of SPEC section 7 on hand-built wire shapes whose
 // loops are known, with self-contacts found from the geometry.
 #include <wirefem/analysis/observables.h>
+#include <wirefem/analysis/shape_io.h>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
 
 namespace
 {
@@ -198,5 +202,51 @@ namespace
         EXPECT_GT(c.s_b - c.s_a, 3.0);
         EXPECT_LT(norm(c.x_a - c.x_b), 1.0);
       }
+  }
+
+  std::string temporary_file(const std::string &name, const std::string &text)
+  {
+    const std::string file = ::testing::TempDir() + name;
+    std::ofstream(file) << text;
+    return file;
+  }
+
+  TEST(ShapeInput, CsvInMillimetresWithItsDiameterAndRadius)
+  {
+    // The teardrop in mm for a 0.8 mm wire in a cavity of radius 20 mm.
+    Path path({-8.0, 0.0});
+    teardrop_up(path, 0.0, 2.0, 3.0);
+    path.line_to({8.0, 0.0});
+    const auto w = path.state(false);
+    std::string text = "# diameter = 0.8\n# radius = 20\nx,y\n";
+    for (const auto &p : w.points)
+      text += std::to_string(0.8 * p.x) + "," + std::to_string(0.8 * p.y) + "\n";
+    const auto read = analysis::read_shape_csv(temporary_file("teardrop.csv", text), {});
+    ASSERT_EQ(read.points.size(), w.points.size());
+    EXPECT_NEAR(read.cavity_radius, 25.0, 1e-12);
+    EXPECT_NEAR(read.injected_length, w.arc_length.back(), 1e-4);
+    const std::string report = analysis::analysis_report(read, true);
+    EXPECT_NE(report.find("\"loops\": 1"), std::string::npos) << report;
+    EXPECT_NE(report.find("\"phi\": "), std::string::npos) << report;
+    // Options override the file: a radius given on the command line wins.
+    analysis::ShapeOptions o;
+    o.cavity_radius = 40.0;
+    EXPECT_NEAR(analysis::read_shape_csv(temporary_file("teardrop.csv", text), o).cavity_radius, 50.0, 1e-12);
+  }
+
+  TEST(ShapeInput, BadCsvNamesFileAndLine)
+  {
+    const auto file = temporary_file("bad.csv", "x,y\n0,0\n1,zero\n");
+    try
+      {
+        analysis::read_shape_csv(file, {});
+        FAIL() << "no error";
+      }
+    catch (const analysis::ShapeError &e)
+      {
+        EXPECT_NE(std::string(e.what()).find(file + ":3"), std::string::npos) << e.what();
+      }
+    EXPECT_THROW(analysis::read_shape_csv(temporary_file("one.csv", "0,0\n"), {}), analysis::ShapeError);
+    EXPECT_THROW(analysis::read_shape(::testing::TempDir() + "no-such-file.csv", {}), analysis::ShapeError);
   }
 } // namespace

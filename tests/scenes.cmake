@@ -8,6 +8,11 @@ add_test(NAME scene.quick_runs
                  --set Output/Directory=${SCENE_OUT}/quick --set Output/Progress=off)
 set_tests_properties(scene.quick_runs PROPERTIES LABELS regression)
 
+# `wirefem analyze` on the output directory of that run: loops, morphology, phi.
+add_test(NAME analyze.run_directory COMMAND ${WIREFEM_EXE} analyze ${SCENE_OUT}/quick)
+set_tests_properties(analyze.run_directory PROPERTIES LABELS regression DEPENDS scene.quick_runs
+                     PASS_REGULAR_EXPRESSION "\"loops\": [1-9][0-9]*,.*\"morphology\": \"(spiral|classic|plastic)\",.*\"phi\": 0\\.(59|6)")
+
 # The contract checker ships beside the repository (shared/tools) where it exists.
 set(CHECK_CONTRACT ${CMAKE_SOURCE_DIR}/../shared/tools/check-contract)
 if(EXISTS ${CHECK_CONTRACT})

@@ -372,6 +372,7 @@ namespace wirefem::simulation
     nlohmann::json j;
     j["model"] = model.name();
     j["scene"] = scene.name;
+    j["cavity_radius"] = scene.cavity.radius;
     j["phi_final"] = result.phi_final;
     j["injected_length"] = model.injected_length();
     j["jammed"] = result.jammed;
