@@ -1,3 +1,4 @@
+#include <wirefem/analysis/fits.h>
 #include <wirefem/analysis/observables.h>
 #include <wirefem/discrete/chain_model.h>
 #include <wirefem/io/binary.h>
@@ -18,10 +19,78 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 namespace wirefem::simulation
 {
+  namespace
+  {
+    /// Columns of series.csv by name (all rows, this process's and, for a
+    /// resumed run, the earlier ones).
+    std::vector<std::vector<double>> read_columns(const std::string &file,
+                                                  const std::vector<std::string> &names)
+    {
+      std::vector<std::vector<double>> columns(names.size());
+      std::ifstream in(file);
+      std::string line;
+      if (!std::getline(in, line))
+        return columns;
+      std::vector<int> index(names.size(), -1);
+      {
+        std::istringstream header(line);
+        std::string name;
+        for (int c = 0; std::getline(header, name, ','); ++c)
+          for (std::size_t k = 0; k < names.size(); ++k)
+            if (name == names[k])
+              index[k] = c;
+      }
+      while (std::getline(in, line))
+        {
+          std::vector<double> row;
+          std::istringstream fields(line);
+          std::string field;
+          while (std::getline(fields, field, ','))
+            row.push_back(std::strtod(field.c_str(), nullptr));
+          for (std::size_t k = 0; k < names.size(); ++k)
+            if (index[k] >= 0 && index[k] < static_cast<int>(row.size()))
+              columns[k].push_back(row[index[k]]);
+        }
+      return columns;
+    }
+
+    /// gamma of N_l ~ phi^gamma and (phi_c, beta) of F ~ (phi_c - phi)^beta
+    /// from the run's series (README, "Fits"); null where a fit is not possible.
+    void add_fits(nlohmann::json &j, const std::string &series_file, const double phi_final)
+    {
+      const auto c = read_columns(series_file, {"phi", "loops", "force"});
+      const auto loops = analysis::fit_loop_exponent(c[0], c[1]);
+      const auto force = analysis::fit_jamming_force(c[0], c[2], 0.5 * phi_final);
+      j["gamma"] = loops.ok ? nlohmann::json(loops.gamma) : nlohmann::json();
+      j["gamma_error"] = loops.ok ? nlohmann::json(loops.gamma_error) : nlohmann::json();
+      j["phi_c"] = force.ok ? nlohmann::json(force.phi_c) : nlohmann::json();
+      j["phi_c_error"] = force.ok ? nlohmann::json(force.phi_c_error) : nlohmann::json();
+      j["beta"] = force.ok ? nlohmann::json(force.beta) : nlohmann::json();
+      j["beta_error"] = force.ok ? nlohmann::json(force.beta_error) : nlohmann::json();
+      j["fits"]["loops"] = loops.ok ? nlohmann::json{{"gamma", loops.gamma},
+                                                     {"gamma_error", loops.gamma_error},
+                                                     {"log_prefactor", loops.log_prefactor},
+                                                     {"phi_min", loops.phi_min},
+                                                     {"phi_max", loops.phi_max},
+                                                     {"rows", loops.n_points}}
+                                    : nlohmann::json{{"reason", loops.reason}};
+      j["fits"]["force"] = force.ok ? nlohmann::json{{"phi_c", force.phi_c},
+                                                     {"phi_c_error", force.phi_c_error},
+                                                     {"beta", force.beta},
+                                                     {"beta_error", force.beta_error},
+                                                     {"log_prefactor", force.log_prefactor},
+                                                     {"phi_min", force.phi_min},
+                                                     {"phi_max", force.phi_max},
+                                                     {"rows", force.n_points}}
+                                    : nlohmann::json{{"reason", force.reason}};
+    }
+  } // namespace
+
   namespace
   {
     const std::vector<std::string> columns = {"time",
@@ -404,6 +473,7 @@ namespace wirefem::simulation
                    {"damping_dissipation", e.damping},
                    {"balance_error", e.balance_error()}};
     j["force_final"] = 0.5 * (model.force_left() + model.force_right());
+    add_fits(j, (dir / "series.csv").string(), result.phi_final);
     std::ofstream((dir / "summary.json").string()) << j.dump(2) << '\n';
 
     model.print_timing(std::cout);
