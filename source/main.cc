@@ -4,6 +4,7 @@
 #include <wirefem/analysis/shape_io.h>
 #include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/simulation.h>
+#include <wirefem/simulation/sweep.h>
 
 #include <CLI/CLI.hpp>
 #include <deal.II/base/mpi.h>
@@ -50,6 +51,41 @@ namespace
         return 2;
       }
   }
+  /// `[mpirun -np N] wirefem sweep FILE.prm`: the phase-diagram sweep.
+  int sweep(int argc, char **argv)
+  {
+    CLI::App app{"wirefem sweep: runs a grid over (kappa_theta, mu_st) x realizations on the MPI ranks\n"
+                 "(mpirun -np N wirefem sweep FILE.prm); rerun to continue an interrupted sweep."};
+    std::string file;
+    app.add_option("file", file, "Sweep file (README, Phase diagram)")->required();
+    try
+      {
+        app.parse(argc, argv);
+      }
+    catch (const CLI::CallForHelp &e)
+      {
+        return app.exit(e);
+      }
+    catch (const CLI::ParseError &e)
+      {
+        std::cerr << "wirefem sweep: error: " << e.what() << " (see --help)\n";
+        return 2;
+      }
+    try
+      {
+        return wirefem::simulation::run_sweep(wirefem::simulation::read_sweep(file));
+      }
+    catch (const wirefem::scene::InputError &e)
+      {
+        std::cerr << "wirefem sweep: error: " << e.what() << '\n';
+        return 2;
+      }
+    catch (const std::exception &e)
+      {
+        std::cerr << "wirefem sweep: error: " << e.what() << '\n';
+        return 3;
+      }
+  }
 } // namespace
 
 int main(int argc, char **argv)
@@ -58,9 +94,12 @@ int main(int argc, char **argv)
     return analyze(argc - 1, argv + 1);
   // Trilinos (the FEM's matrices and direct solver) needs MPI; one thread.
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  if (argc > 1 && std::string(argv[1]) == "sweep")
+    return sweep(argc - 1, argv + 1);
   CLI::App app{"wirefem: a wire pushed from two channels into a circular cavity until it jams.\n"
                "Example: wirefem prm/classic.prm --set \"Contact/Friction/Static coefficient=0.2\"\n"
-               "Analysis of a shape or a finished run: wirefem analyze PATH (see wirefem analyze --help)"};
+               "Analysis of a shape or a finished run: wirefem analyze PATH (see wirefem analyze --help)\n"
+               "Phase-diagram sweep on MPI ranks: mpirun -np N wirefem sweep FILE.prm"};
   std::string prm_file;
   std::vector<std::string> overrides;
   bool print = false;

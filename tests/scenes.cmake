@@ -87,3 +87,14 @@ add_test(NAME scene.interrupt_and_resume
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/interrupt_resume.sh ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm
                  ${SCENE_OUT}/resume)
 set_tests_properties(scene.interrupt_and_resume PROPERTIES LABELS regression)
+
+# The phase-diagram sweep on 2 MPI ranks: stopped midway and rerun without
+# redoing finished cases (tests/sweep_resume.sh).
+find_program(MPIRUN mpirun)
+if(MPIRUN)
+  add_test(NAME sweep.mpi_resume
+           COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/sweep_resume.sh ${WIREFEM_EXE}
+                   ${CMAKE_CURRENT_SOURCE_DIR}/phase_diagram_small.prm ${SCENE_OUT}/sweep)
+  set_tests_properties(sweep.mpi_resume PROPERTIES LABELS regression PROCESSORS 2
+                       PASS_REGULAR_EXPRESSION "PASS:" FAIL_REGULAR_EXPRESSION "FAIL:")
+endif()

@@ -12,6 +12,8 @@
 #include <cairo.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <functional>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -249,12 +251,34 @@ namespace wirefem::io
     }
 
     /// Draws on a fresh context and reports any error the context collected.
-    void render(cairo_surface_t *surface, const Scene &scene, const std::string &caption,
+    void render(cairo_surface_t *surface, const std::function<void(cairo_t *)> &draw_on,
                 const std::string &file)
     {
       const ContextPtr cr(cairo_create(surface));
-      draw(cr.get(), scene, caption);
+      draw_on(cr.get());
       check(cairo_status(cr.get()), "draw", file);
+    }
+
+    /// The same drawing as a PNG and an SVG file of width x height pixels.
+    void write_png_and_svg(const int width, const int height, const std::function<void(cairo_t *)> &draw_on,
+                           const std::string &png_file, const std::string &svg_file)
+    {
+      {
+        const SurfacePtr png(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height));
+        check(cairo_surface_status(png.get()), "create image for", png_file);
+        render(png.get(), draw_on, png_file);
+        check(cairo_surface_write_to_png(png.get(), png_file.c_str()), "write", png_file);
+      }
+      {
+        // The SVG surface writes lazily; errors opening or writing the file
+        // only show up in the surface status, checked at each stage.
+        const SurfacePtr svg(cairo_svg_surface_create(svg_file.c_str(), width, height));
+        check(cairo_surface_status(svg.get()), "open", svg_file);
+        cairo_svg_surface_set_document_unit(svg.get(), CAIRO_SVG_UNIT_PX);
+        render(svg.get(), draw_on, svg_file);
+        cairo_surface_finish(svg.get());
+        check(cairo_surface_status(svg.get()), "write", svg_file);
+      }
     }
   } // namespace
 
@@ -266,23 +290,77 @@ namespace wirefem::io
                                   std::to_string(options.size_px));
 
     const Scene scene = make_scene(wire, options.size_px);
+    write_png_and_svg(
+        options.size_px, options.size_px, [&](cairo_t *cr) { draw(cr, scene, options.caption); }, png_file,
+        svg_file);
+  }
 
-    {
-      const SurfacePtr png(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, options.size_px, options.size_px));
-      check(cairo_surface_status(png.get()), "create image for", png_file);
-      render(png.get(), scene, options.caption, png_file);
-      check(cairo_surface_write_to_png(png.get(), png_file.c_str()), "write", png_file);
-    }
-
-    {
-      // The SVG surface writes lazily; errors opening or writing the file
-      // only show up in the surface status, checked at each stage.
-      const SurfacePtr svg(cairo_svg_surface_create(svg_file.c_str(), options.size_px, options.size_px));
-      check(cairo_surface_status(svg.get()), "open", svg_file);
-      cairo_svg_surface_set_document_unit(svg.get(), CAIRO_SVG_UNIT_PX);
-      render(svg.get(), scene, options.caption, svg_file);
-      cairo_surface_finish(svg.get());
-      check(cairo_surface_status(svg.get()), "write", svg_file);
-    }
+  void write_phase_diagram(const PhaseDiagram &diagram, const std::string &png_file,
+                           const std::string &svg_file)
+  {
+    const int rows = static_cast<int>(diagram.kappa.size()), cols = static_cast<int>(diagram.mu.size());
+    if (rows == 0 || cols == 0 || static_cast<int>(diagram.cells.size()) != rows * cols)
+      throw std::invalid_argument("wirefem::io::write_phase_diagram: cells do not match the grid");
+    const double cell = 120.0, left = 110.0, bottom = 70.0, top = 75.0, right = 20.0;
+    const int width = static_cast<int>(left + cols * cell + right);
+    const int height = static_cast<int>(top + rows * cell + bottom);
+    auto colour = [](const std::string &phase, double rgb[3]) {
+      const double spiral[3] = {0.35, 0.55, 0.85}, classic[3] = {0.40, 0.75, 0.40},
+                   plastic[3] = {0.90, 0.45, 0.35}, none[3] = {0.85, 0.85, 0.85};
+      const double *c = phase == "spiral"    ? spiral
+                        : phase == "classic" ? classic
+                        : phase == "plastic" ? plastic
+                                             : none;
+      std::copy(c, c + 3, rgb);
+    };
+    auto text = [](cairo_t *cr, const std::string &t, const double x, const double y, const double size,
+                   const bool centre) {
+      cairo_set_font_size(cr, size);
+      cairo_text_extents_t e;
+      cairo_text_extents(cr, t.c_str(), &e);
+      cairo_move_to(cr, centre ? x - 0.5 * e.width - e.x_bearing : x, y);
+      cairo_show_text(cr, t.c_str());
+    };
+    auto number = [](const double v) {
+      char buffer[32];
+      std::snprintf(buffer, sizeof buffer, "%.4g", v);
+      return std::string(buffer);
+    };
+    write_png_and_svg(
+        width, height,
+        [&](cairo_t *cr) {
+          cairo_set_source_rgb(cr, 1, 1, 1);
+          cairo_paint(cr);
+          cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+          for (int i = 0; i < rows; ++i) // kappa grows upwards
+            for (int j = 0; j < cols; ++j)
+              {
+                const auto &c = diagram.cells[i * cols + j];
+                const double x = left + j * cell, y = top + (rows - 1 - i) * cell;
+                double rgb[3];
+                colour(c.majority, rgb);
+                // Paler where the majority is slim.
+                const double f = c.runs > 0 ? 0.4 + 0.6 * c.fraction : 0.0;
+                cairo_set_source_rgb(cr, 1 - f * (1 - rgb[0]), 1 - f * (1 - rgb[1]), 1 - f * (1 - rgb[2]));
+                cairo_rectangle(cr, x, y, cell, cell);
+                cairo_fill_preserve(cr);
+                cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+                cairo_set_line_width(cr, 1.0);
+                cairo_stroke(cr);
+                cairo_set_source_rgb(cr, 0, 0, 0);
+                text(cr, c.runs > 0 ? c.majority : "no runs", x + 0.5 * cell, y + 0.45 * cell, 15, true);
+                text(cr, std::to_string(c.votes) + "/" + std::to_string(c.runs), x + 0.5 * cell,
+                     y + 0.68 * cell, 13, true);
+              }
+          cairo_set_source_rgb(cr, 0, 0, 0);
+          for (int j = 0; j < cols; ++j)
+            text(cr, number(diagram.mu[j]), left + (j + 0.5) * cell, top + rows * cell + 22, 13, true);
+          for (int i = 0; i < rows; ++i)
+            text(cr, number(diagram.kappa[i]), 10, top + (rows - 1 - i + 0.5) * cell + 5, 13, false);
+          text(cr, "static friction mu_st", left + 0.5 * cols * cell, height - 15, 14, true);
+          text(cr, "yield curvature kappa_theta (rows)", 10, 62, 14, false);
+          text(cr, diagram.title, 0.5 * width, 24, 14, true);
+        },
+        png_file, svg_file);
   }
 } // namespace wirefem::io

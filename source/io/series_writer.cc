@@ -1,6 +1,8 @@
 #include <wirefem/io/series_writer.h>
 
+#include <cstdlib>
 #include <iomanip>
+#include <sstream>
 #include <stdexcept>
 
 namespace wirefem::io
@@ -39,5 +41,36 @@ namespace wirefem::io
       out << (i ? "," : "") << values[i];
     out << '\n';
     out.flush();
+  }
+
+  std::vector<std::vector<double>> read_series_columns(const std::string &filename,
+                                                       const std::vector<std::string> &names)
+  {
+    std::vector<std::vector<double>> columns(names.size());
+    std::ifstream in(filename);
+    std::string line;
+    if (!std::getline(in, line))
+      return columns;
+    std::vector<int> index(names.size(), -1);
+    {
+      std::istringstream header(line);
+      std::string name;
+      for (int c = 0; std::getline(header, name, ','); ++c)
+        for (std::size_t k = 0; k < names.size(); ++k)
+          if (name == names[k])
+            index[k] = c;
+    }
+    while (std::getline(in, line))
+      {
+        std::vector<double> row;
+        std::istringstream fields(line);
+        std::string field;
+        while (std::getline(fields, field, ','))
+          row.push_back(std::strtod(field.c_str(), nullptr));
+        for (std::size_t k = 0; k < names.size(); ++k)
+          if (index[k] >= 0 && index[k] < static_cast<int>(row.size()))
+            columns[k].push_back(row[index[k]]);
+      }
+    return columns;
   }
 } // namespace wirefem::io

@@ -26,44 +26,11 @@ namespace wirefem::simulation
 {
   namespace
   {
-    /// Columns of series.csv by name (all rows, this process's and, for a
-    /// resumed run, the earlier ones).
-    std::vector<std::vector<double>> read_columns(const std::string &file,
-                                                  const std::vector<std::string> &names)
-    {
-      std::vector<std::vector<double>> columns(names.size());
-      std::ifstream in(file);
-      std::string line;
-      if (!std::getline(in, line))
-        return columns;
-      std::vector<int> index(names.size(), -1);
-      {
-        std::istringstream header(line);
-        std::string name;
-        for (int c = 0; std::getline(header, name, ','); ++c)
-          for (std::size_t k = 0; k < names.size(); ++k)
-            if (name == names[k])
-              index[k] = c;
-      }
-      while (std::getline(in, line))
-        {
-          std::vector<double> row;
-          std::istringstream fields(line);
-          std::string field;
-          while (std::getline(fields, field, ','))
-            row.push_back(std::strtod(field.c_str(), nullptr));
-          for (std::size_t k = 0; k < names.size(); ++k)
-            if (index[k] >= 0 && index[k] < static_cast<int>(row.size()))
-              columns[k].push_back(row[index[k]]);
-        }
-      return columns;
-    }
-
     /// gamma of N_l ~ phi^gamma and (phi_c, beta) of F ~ (phi_c - phi)^beta
     /// from the run's series (README, "Fits"); null where a fit is not possible.
     void add_fits(nlohmann::json &j, const std::string &series_file, const double phi_final)
     {
-      const auto c = read_columns(series_file, {"phi", "loops", "force"});
+      const auto c = io::read_series_columns(series_file, {"phi", "loops", "force"});
       const auto loops = analysis::fit_loop_exponent(c[0], c[1]);
       const auto force = analysis::fit_jamming_force(c[0], c[2], 0.5 * phi_final);
       j["gamma"] = loops.ok ? nlohmann::json(loops.gamma) : nlohmann::json();

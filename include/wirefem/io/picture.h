@@ -6,6 +6,7 @@
 #include <wirefem/analysis/wire_state.h>
 
 #include <string>
+#include <vector>
 
 namespace wirefem::io
 {
@@ -19,4 +20,26 @@ namespace wirefem::io
   /// std::runtime_error if a file cannot be written.
   void write_pictures(const analysis::WireState &wire, const std::string &png_file,
                       const std::string &svg_file, const PictureOptions &options = {});
+
+  /// The phase diagram of a sweep: one cell per (kappa_theta, mu_st), in
+  /// the colour of its majority phase (paler when the majority is slim),
+  /// with the votes it got out of its finished runs.
+  struct PhaseDiagram
+  {
+    std::string title;
+    std::vector<double> kappa; ///< rows, bottom to top
+    std::vector<double> mu;    ///< columns, left to right
+    struct Cell
+    {
+      std::string majority; ///< spiral | classic | plastic ("" without runs)
+      double fraction = 0.0;
+      int votes = 0;
+      int runs = 0;
+    };
+    std::vector<Cell> cells; ///< row-major: cells[i * mu.size() + j]
+  };
+
+  /// Writes the diagram to a PNG and an SVG file (cairo).
+  void write_phase_diagram(const PhaseDiagram &diagram, const std::string &png_file,
+                           const std::string &svg_file);
 } // namespace wirefem::io

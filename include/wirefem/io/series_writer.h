@@ -21,4 +21,8 @@ namespace wirefem::io
     std::ofstream out;
     std::size_t n_columns;
   };
+
+  /// The named columns of a series.csv (missing columns come back empty).
+  std::vector<std::vector<double>> read_series_columns(const std::string &filename,
+                                                       const std::vector<std::string> &names);
 } // namespace wirefem::io
