@@ -3,6 +3,7 @@
 
 #include <wirefem/analysis/wire_state.h>
 #include <wirefem/io/picture.h>
+#include <wirefem/io/series_writer.h>
 #include <wirefem/io/vtu_writer.h>
 
 #include <cairo.h>
@@ -257,5 +258,30 @@ namespace
     broken.add(0.0, "x.vtu");
     EXPECT_THROW(broken.write(), std::runtime_error);
     EXPECT_FALSE(fs::exists(dir / "missing"));
+  }
+
+  TEST(SeriesWriter, ResumeKeepsTheRowWrittenAtTheCheckpointStep)
+  {
+    // 1.23456789996 prints to 10 digits as 1.23456790, a little later than
+    // itself: a checkpoint taken at that step must still keep that row.
+    const std::string file = ::testing::TempDir() + "series_resume.csv";
+    const double t = 1.23456789996;
+    {
+      wirefem::io::SeriesWriter w(file, {"time", "x"});
+      w.write_row({1.0, 1.0});
+      w.write_row({t, 2.0});
+      w.write_row({2.0, 3.0}); // after the checkpoint: dropped on resume
+    }
+    {
+      wirefem::io::SeriesWriter w(file, {"time", "x"}, t);
+      w.write_row({2.0, 4.0});
+    }
+    std::ifstream in(file);
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);)
+      lines.push_back(l);
+    ASSERT_EQ(lines.size(), 4u);
+    EXPECT_EQ(lines[2].substr(0, lines[2].find(',')), "1.2345679");
+    EXPECT_EQ(lines[3], "2,4");
   }
 } // namespace

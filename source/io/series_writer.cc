@@ -1,5 +1,7 @@
 #include <wirefem/io/series_writer.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <iomanip>
 #include <sstream>
@@ -14,12 +16,16 @@ namespace wirefem::io
     std::vector<std::string> kept;
     if (resume_time >= 0.0)
       {
-        // Rows written after the checkpoint would be written again.
+        // Rows written after the checkpoint would be written again. Times
+        // are printed to 10 digits, so a row written at the checkpoint's
+        // own step may read back a little later than it: compare within
+        // that rounding (rows are a whole time step apart).
+        const double rounding = 1e-9 * std::max(1.0, std::abs(resume_time));
         std::ifstream in(filename);
         std::string line;
         std::getline(in, line); // header
         while (std::getline(in, line))
-          if (!line.empty() && std::stod(line.substr(0, line.find(','))) <= resume_time)
+          if (!line.empty() && std::stod(line.substr(0, line.find(','))) <= resume_time + rounding)
             kept.push_back(line);
       }
     out.open(filename);
