@@ -50,6 +50,11 @@ namespace
         std::cerr << "wirefem analyze: error: " << e.what() << '\n';
         return 2;
       }
+    catch (const std::exception &e)
+      {
+        std::cerr << "wirefem analyze: error: " << path << ": " << e.what() << '\n';
+        return 3;
+      }
   }
   /// `[mpirun -np N] wirefem sweep FILE.prm`: the phase-diagram sweep.
   int sweep(int argc, char **argv)

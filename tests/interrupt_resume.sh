@@ -8,6 +8,9 @@ args=(--set Cavity/Radius=25 --set Output/Progress=off --set "Output/VTU interva
 "$exe" "$prm" "${args[@]}" --set Output/Directory="$out/straight" > "$out/straight.log" 2>&1 || exit 1
 "$exe" "$prm" "${args[@]}" --set Output/Directory="$out/resumed" > "$out/part1.log" 2>&1 &
 pid=$!
+# Interrupt once the run is stepping (its signal handler is installed when
+# it starts writing series.csv; a loaded machine may take seconds to get there).
+for _ in $(seq 1 600); do [ -s "$out/resumed/series.csv" ] && break; sleep 0.1; done
 sleep 1
 kill -INT $pid
 wait $pid; rc=$?

@@ -48,19 +48,54 @@ namespace wirefem::analysis
                             const int min_points, const double min_ratio, const double min_loops)
   {
     LoopFit fit;
-    // Counting noise: var(log N) ~ 1/N, so each row weighs N.
-    std::vector<double> x, y, w;
+    // Rows with enough loops, in order of phi.
+    std::vector<std::pair<double, double>> rows;
     for (std::size_t i = 0; i < phi.size() && i < loops.size(); ++i)
       if (phi[i] > 0.0 && loops[i] >= min_loops)
+        rows.emplace_back(std::log(phi[i]), loops[i]);
+    std::sort(rows.begin(), rows.end());
+    // Many rows (long runs, pooled realizations) are averaged in at most
+    // max_bins bins of equal width in log phi: successive rows of a run are
+    // correlated anyway, and the window search below is quadratic in them.
+    constexpr int max_bins = 60;
+    std::vector<double> x, y, w, count;
+    if (static_cast<int>(rows.size()) <= max_bins)
+      for (const auto &[lx, nl] : rows)
         {
-          x.push_back(std::log(phi[i]));
-          y.push_back(std::log(loops[i]));
-          w.push_back(loops[i]);
+          x.push_back(lx);
+          y.push_back(std::log(nl));
+          count.push_back(1.0);
         }
+    else
+      {
+        const double x0 = rows.front().first, width = (rows.back().first - x0) / max_bins;
+        std::size_t i = 0;
+        for (int b = 0; b < max_bins; ++b)
+          {
+            double sx = 0.0, sn = 0.0;
+            int m = 0;
+            while (i < rows.size() && (b == max_bins - 1 || rows[i].first < x0 + (b + 1) * width))
+              {
+                sx += rows[i].first;
+                sn += rows[i].second;
+                ++m;
+                ++i;
+              }
+            if (m == 0)
+              continue;
+            x.push_back(sx / m);
+            y.push_back(std::log(sn / m));
+            count.push_back(m);
+          }
+      }
+    // Counting noise: var(log N) ~ 1/N, so a point weighs N times its rows.
+    for (std::size_t i = 0; i < x.size(); ++i)
+      w.push_back(std::exp(y[i]) * count[i]);
     const int n = static_cast<int>(x.size());
     if (n < min_points)
       {
-        fit.reason = "fewer than " + std::to_string(min_points) + " rows with enough loops";
+        fit.reason =
+            fmt::format("fewer than {} rows (or bins) with at least {} loops", min_points, min_loops);
         return fit;
       }
     // The widest window (in log phi) without detectable curvature.
@@ -75,7 +110,7 @@ namespace wirefem::analysis
           const std::vector<double> xs(x.begin() + s0, x.begin() + e), ys(y.begin() + s0, y.begin() + e),
               ws(w.begin() + s0, w.begin() + e);
           const auto [c2, e2] = curvature(xs, ys, ws);
-          if (std::abs(c2) <= 2.0 * e2)
+          if (std::abs(c2) <= 2.0 * e2 + 1e-12) // (exact data: no curvature at all)
             {
               start = s0;
               end = e;
@@ -97,7 +132,7 @@ namespace wirefem::analysis
     for (int pass = 0; pass < 2; ++pass)
       {
         for (int i = start; i < end; ++i)
-          w[i] = std::exp(c0 + c1 * x[i]);
+          w[i] = std::exp(c0 + c1 * x[i]) * count[i];
         gsl_fit_wlinear(x.data() + start, 1, w.data() + start, 1, y.data() + start, 1, m, &c0, &c1, &cov00,
                         &cov01, &cov11, &chisq);
       }

@@ -117,10 +117,20 @@ namespace wirefem::analysis
         std::smatch m;
         if (std::regex_match(line, m, meta))
           {
-            (m[1] == "diameter" ? diameter : radius) = std::stod(m[2]);
+            double value = 0.0;
+            try
+              {
+                value = std::stod(m[2]);
+              }
+            catch (const std::exception &)
+              {
+                fail(where, std::string(m[1]) + ": '" + std::string(m[2]) + "' is not a number");
+              }
+            (m[1] == "diameter" ? diameter : radius) = value;
             continue;
           }
-        if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#')
+        const auto first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#')
           continue;
         std::replace(line.begin(), line.end(), ',', ' ');
         std::istringstream fields(line);

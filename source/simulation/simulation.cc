@@ -378,8 +378,6 @@ namespace wirefem::simulation
     progress.finish();
     std::signal(SIGINT, old_int);
     std::signal(SIGTERM, old_term);
-    if (!result.interrupted)
-      fs::remove(checkpoint_file);
 
     const bool finite = model.finite();
     if (!finite && !result.failed)
@@ -441,7 +439,15 @@ namespace wirefem::simulation
                    {"balance_error", e.balance_error()}};
     j["force_final"] = 0.5 * (model.force_left() + model.force_right());
     add_fits(j, (dir / "series.csv").string(), result.phi_final);
-    std::ofstream((dir / "summary.json").string()) << j.dump(2) << '\n';
+    // Written whole and then renamed, and only then is the checkpoint
+    // dropped: a run stopped in between still resumes.
+    {
+      const fs::path tmp = dir / "summary.json.tmp";
+      std::ofstream(tmp.string()) << j.dump(2) << '\n';
+      fs::rename(tmp, dir / "summary.json");
+    }
+    if (!result.interrupted)
+      fs::remove(checkpoint_file);
 
     model.print_timing(std::cout);
     std::cout << fmt::format("{}: {}\nphi = {:.4f}, loops = {}, morphology = {}, symmetry = {:.3f}, "

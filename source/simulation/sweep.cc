@@ -85,7 +85,9 @@ namespace wirefem::simulation
               c.push_back(
                   {static_cast<int>(i), static_cast<int>(j), seed, s.yield_curvatures[i],
                    s.static_coefficients[j],
-                   (fs::path(s.output_directory) / fmt::format("kappa{}_mu{}_seed{}", i, j, seed)).string()});
+                   (fs::path(s.output_directory) /
+                    fmt::format("kappa{}_mu{}_seed{}", s.yield_curvatures[i], s.static_coefficients[j], seed))
+                       .string()});
             }
       return c;
     }
@@ -119,7 +121,7 @@ namespace wirefem::simulation
     {
       const fs::path out(s.output_directory);
       std::ofstream rows((out / "sweep.csv").string());
-      rows << "kappa_theta,mu_st,seed,finished,phi_final,jammed,loops,morphology,symmetry,curvature_ratio,"
+      rows << "kappa_theta,mu_st,seed,status,phi_final,jammed,loops,morphology,symmetry,curvature_ratio,"
               "gamma,gamma_error,phi_c,beta,steps,wall_time_s,directory\n";
       const int n_rows = static_cast<int>(s.yield_curvatures.size()),
                 n_cols = static_cast<int>(s.static_coefficients.size());
@@ -138,19 +140,27 @@ namespace wirefem::simulation
           const int cell = c.row * n_cols + c.col;
           if (j.is_null())
             {
-              rows << fmt::format("{},{},{},false,,,,,,,,,,,,,{}\n", c.kappa, c.mu, c.seed, c.dir);
+              rows << fmt::format("{},{},{},not run,,,,,,,,,,,,,{}\n", c.kappa, c.mu, c.seed, c.dir);
               continue;
             }
           ++finished;
-          const std::string phase = j.value("morphology", "");
+          const bool failed = j.value("failed", false);
+          const std::string phase = failed ? std::string("failed") : j.value("morphology", "");
+          if (failed) // stopped by a numerical limit: shown, but neither voting nor fitted
+            {
+              rows << fmt::format("{},{},{},failed,{},{},,,,,,,,,{},{},{}\n", c.kappa, c.mu, c.seed,
+                                  json_number(j, "phi_final"), j.value("jammed", false),
+                                  j.value("steps", 0ul), json_number(j, "wall_time_s"), c.dir);
+              continue;
+            }
           ++votes[cell][phase];
           ++diagram.cells[cell].runs;
-          rows << fmt::format("{},{},{},true,{},{},{},{},{},{},{},{},{},{},{},{},{}\n", c.kappa, c.mu, c.seed,
-                              json_number(j, "phi_final"), j.value("jammed", false), j.value("loops", 0),
-                              phase, json_number(j, "symmetry"), json_number(j, "curvature_ratio"),
-                              json_number(j, "gamma"), json_number(j, "gamma_error"), json_number(j, "phi_c"),
-                              json_number(j, "beta"), j.value("steps", 0ul), json_number(j, "wall_time_s"),
-                              c.dir);
+          rows << fmt::format("{},{},{},finished,{},{},{},{},{},{},{},{},{},{},{},{},{}\n", c.kappa, c.mu,
+                              c.seed, json_number(j, "phi_final"), j.value("jammed", false),
+                              j.value("loops", 0), phase, json_number(j, "symmetry"),
+                              json_number(j, "curvature_ratio"), json_number(j, "gamma"),
+                              json_number(j, "gamma_error"), json_number(j, "phi_c"), json_number(j, "beta"),
+                              j.value("steps", 0ul), json_number(j, "wall_time_s"), c.dir);
           const auto col =
               io::read_series_columns((fs::path(c.dir) / "series.csv").string(), {"phi", "loops", "force"});
           pooled_phi[cell].insert(pooled_phi[cell].end(), col[0].begin(), col[0].end());
@@ -310,7 +320,7 @@ namespace wirefem::simulation
     fs::create_directories(s.output_directory);
     int status = 0;
     int done = 0, skipped = 0;
-    for (std::size_t k = rank; k < all.size() && status == 0; k += size)
+    for (std::size_t k = rank; k < all.size() && status != 130; k += size)
       {
         const auto &c = all[k];
         if (!finished_summary(c).is_null())
@@ -329,16 +339,23 @@ namespace wirefem::simulation
         std::ostringstream log;
         auto *old = std::cout.rdbuf(log.rdbuf()); // one line per case instead of the run's report
         RunResult r;
+        std::string error;
         try
           {
             r = run(scene, {resume});
           }
-        catch (...)
+        catch (const std::exception &e) // e.g. a checkpoint of other parameters: report, go on
           {
-            std::cout.rdbuf(old);
-            throw;
+            error = e.what();
           }
         std::cout.rdbuf(old);
+        if (!error.empty())
+          {
+            std::cerr << fmt::format("rank {}: kappa_theta {} mu_st {} seed {}: error: {}\n", rank, c.kappa,
+                                     c.mu, c.seed, error);
+            status = std::max(status, 3);
+            continue;
+          }
         std::cout << fmt::format(
                          "rank {}: kappa_theta {} mu_st {} seed {}: {}{}, phi {:.4f}, {} loops, {:.1f} s\n",
                          rank, c.kappa, c.mu, c.seed, r.interrupted ? "interrupted" : r.morphology,
@@ -355,6 +372,7 @@ namespace wirefem::simulation
     const int worst = dealii::Utilities::MPI::max(status, MPI_COMM_WORLD);
     if (rank == 0)
       write_results(s, all);
+    MPI_Barrier(MPI_COMM_WORLD); // no rank leaves (and ends the job) before the tables are written
     return worst;
   }
 } // namespace wirefem::simulation

@@ -23,8 +23,10 @@ namespace wirefem::analysis
   /// `min_points` rows with N_l >= min_loops (the log of fewer counts is
   /// biased by the counting noise), and on which log N_l shows no
   /// curvature in log phi (a quadratic term within two standard errors of
-  /// zero). Errors are one standard error from the weighted scatter about
-  /// the line.
+  /// zero). More than 60 rows are first averaged in 60 bins of equal width
+  /// in log phi. Errors are one standard error from the weighted scatter
+  /// about the line; successive rows of one run are correlated, so for run
+  /// data they are a lower bound.
   LoopFit fit_loop_exponent(const std::vector<double> &phi, const std::vector<double> &loops,
                             int min_points = 8, double min_ratio = 1.5, double min_loops = 5);
 

@@ -24,10 +24,13 @@ namespace wirefem::simulation
   Sweep read_sweep(const std::string &file);
 
   /// Runs the cases this MPI rank owns (round robin) that are not finished
-  /// yet: a case with a summary.json of a finished run is skipped, one with
-  /// a checkpoint is resumed. Rank 0 then writes sweep.csv (a row per
-  /// case), cells.csv (per cell: majority phase, its fraction, fits on the
-  /// pooled realizations) and phase_diagram.png/.svg. Returns the exit
-  /// status: 0, or 130 when interrupted (rerun to continue).
+  /// yet, each in <output>/kappa<value>_mu<value>_seed<seed>: a case with a
+  /// summary.json of a run that was not interrupted is skipped (one stopped
+  /// by a numerical limit counts as failed: shown, not voting, not fitted),
+  /// one with a checkpoint is resumed. Rank 0 then writes sweep.csv (a row
+  /// per case), cells.csv (per cell: majority phase, its fraction, fits on
+  /// the pooled realizations) and phase_diagram.png/.svg. Returns the exit
+  /// status: 0; 3 when a case could not run (reported, the others ran);
+  /// 130 when interrupted (rerun to continue).
   int run_sweep(const Sweep &sweep);
 } // namespace wirefem::simulation
