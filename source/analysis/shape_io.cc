@@ -199,6 +199,10 @@ namespace wirefem::analysis
             const auto j = nlohmann::json::parse(read_file(summary_file));
             if (j.contains("cavity_radius"))
               radius = j["cavity_radius"].get<double>();
+            // The run's own L (the wire that passed the inlets), not the
+            // polyline between the inlet nodes.
+            if (j.contains("injected_length"))
+              w.injected_length = j["injected_length"].get<double>();
           }
         catch (const nlohmann::json::exception &e)
           {

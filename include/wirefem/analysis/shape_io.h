@@ -34,7 +34,8 @@ namespace wirefem::analysis
   WireState read_shape_csv(const std::string &file, const ShapeOptions &options);
 
   /// The final state of a run: the last file listed in DIR/wire.pvd, and
-  /// the cavity radius from DIR/summary.json (or the options).
+  /// the cavity radius (or the options') and injected length from
+  /// DIR/summary.json.
   WireState read_run_directory(const std::string &dir, const ShapeOptions &options);
 
   /// Reads either of the two, by what `path` is.
