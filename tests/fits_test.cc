@@ -48,8 +48,8 @@ namespace
 
   TEST(Fits, LoopExponentLeavesOutTheShoulder)
   {
-    // A plateau of 2.5 loops below phi = 0.064 (the shoulder Gomes et al.
-    // report), a power law above it.
+    // A plateau of 2.5 loops below phi = 0.064 (the low-density shoulder
+    // experiments show), a power law above it.
     const auto phi = linspace(0.01, 0.5, 80);
     std::vector<double> loops(phi.size());
     std::mt19937 gen(7);
