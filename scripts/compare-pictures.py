@@ -2,7 +2,10 @@
 """A grid of final pictures, one row per model (or any label), captioned
 with phi and the loops and morphology `wirefem analyze` finds.
 
-    scripts/compare-pictures.py WIREFEM OUT.png LABEL=DIR,DIR,... [LABEL=DIR,...]
+    scripts/compare-pictures.py [--radius=R] WIREFEM OUT.png LABEL=DIR,DIR,... [LABEL=DIR,...]
+
+--radius gives the cavity radius of runs whose summary.json does not
+record it (runs of older versions).
 
 Each DIR is a run's output directory (final.png, summary.json). The
 figure docs/figures/models-f25.png was made with
@@ -20,10 +23,14 @@ SIZE = 330
 
 
 def main():
-    if len(sys.argv) < 4:
+    args = sys.argv[1:]
+    fallback_radius = None
+    if args and args[0].startswith("--radius="):
+        fallback_radius = args.pop(0).partition("=")[2]
+    if len(args) < 3:
         sys.exit(__doc__)
-    exe, out = sys.argv[1], sys.argv[2]
-    rows = [(a.partition("=")[0], a.partition("=")[2].split(",")) for a in sys.argv[3:]]
+    exe, out = args[0], args[1]
+    rows = [(a.partition("=")[0], a.partition("=")[2].split(",")) for a in args[2:]]
     cols = max(len(dirs) for _, dirs in rows)
     img = Image.new("RGB", (cols * SIZE + 70, len(rows) * (SIZE + 18)), "white")
     draw = ImageDraw.Draw(img)
@@ -32,7 +39,7 @@ def main():
         draw.text((8, y0 + SIZE // 2), label, fill="black")
         for c, run in enumerate(dirs):
             summary = json.load(open(f"{run}/summary.json"))
-            radius = summary.get("cavity_radius")
+            radius = summary.get("cavity_radius", fallback_radius)
             cmd = [exe, "analyze", run] + (["--radius", str(radius)] if radius else [])
             shape = json.loads(subprocess.check_output(cmd))
             picture = Image.open(f"{run}/final.png").convert("RGB")
