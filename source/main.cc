@@ -13,6 +13,26 @@
 
 namespace
 {
+  /// Parses the command line: -1 to go on, else the exit status (0 after
+  /// --help, 2 for a bad command line, reported as "NAME: error: ...").
+  int parse(CLI::App &app, int argc, char **argv, const char *name)
+  {
+    try
+      {
+        app.parse(argc, argv);
+        return -1;
+      }
+    catch (const CLI::CallForHelp &e)
+      {
+        return app.exit(e);
+      }
+    catch (const CLI::ParseError &e)
+      {
+        std::cerr << name << ": error: " << e.what() << " (see --help)\n";
+        return 2;
+      }
+  }
+
   /// `wirefem analyze PATH`: loops, morphology, symmetry and phi of a shape
   /// (CSV file or a run's output directory) as JSON on stdout.
   int analyze(int argc, char **argv)
@@ -26,19 +46,8 @@ namespace
         ->check(CLI::PositiveNumber);
     app.add_option("--radius", options.cavity_radius, "Cavity radius in the units of the file")
         ->check(CLI::PositiveNumber);
-    try
-      {
-        app.parse(argc, argv);
-      }
-    catch (const CLI::CallForHelp &e)
-      {
-        return app.exit(e);
-      }
-    catch (const CLI::ParseError &e)
-      {
-        std::cerr << "wirefem analyze: error: " << e.what() << " (see --help)\n";
-        return 2;
-      }
+    if (const int status = parse(app, argc, argv, "wirefem analyze"); status >= 0)
+      return status;
     try
       {
         const auto wire = wirefem::analysis::read_shape(path, options);
@@ -56,6 +65,7 @@ namespace
         return 3;
       }
   }
+
   /// `[mpirun -np N] wirefem sweep FILE.prm`: the phase-diagram sweep.
   int sweep(int argc, char **argv)
   {
@@ -63,19 +73,8 @@ namespace
                  "(mpirun -np N wirefem sweep FILE.prm); rerun to continue an interrupted sweep."};
     std::string file;
     app.add_option("file", file, "Sweep file (README, Phase diagram)")->required();
-    try
-      {
-        app.parse(argc, argv);
-      }
-    catch (const CLI::CallForHelp &e)
-      {
-        return app.exit(e);
-      }
-    catch (const CLI::ParseError &e)
-      {
-        std::cerr << "wirefem sweep: error: " << e.what() << " (see --help)\n";
-        return 2;
-      }
+    if (const int status = parse(app, argc, argv, "wirefem sweep"); status >= 0)
+      return status;
     try
       {
         return wirefem::simulation::run_sweep(wirefem::simulation::read_sweep(file));
@@ -115,19 +114,8 @@ int main(int argc, char **argv)
       ->take_all();
   app.add_flag("--print-parameters", print, "Print every key with its default and documentation");
   app.add_flag("--resume", resume, "Continue an interrupted run from its output directory's checkpoint.bin");
-  try
-    {
-      app.parse(argc, argv);
-    }
-  catch (const CLI::CallForHelp &e)
-    {
-      return app.exit(e);
-    }
-  catch (const CLI::ParseError &e)
-    {
-      std::cerr << "wirefem: error: " << e.what() << " (see --help)\n";
-      return 2;
-    }
+  if (const int status = parse(app, argc, argv, "wirefem"); status >= 0)
+    return status;
   if (print)
     {
       wirefem::scene::print_parameters(std::cout);

@@ -90,6 +90,15 @@ namespace
     path.line_to({x0 + half_gap, 0.0});
   }
 
+  /// Two legs 0.9 d apart, touching along their whole length, joined by a
+  /// half circle of radius 0.45 d.
+  Path zipped_hairpin()
+  {
+    Path path({-10.0, -half_gap});
+    path.line_to({0.0, -half_gap}).arc({0.0, 0.0}, M_PI).line_to({-10.0, half_gap});
+    return path;
+  }
+
   TEST(Loops, StraightWireHasNone)
   {
     Path path({-10.0, 0.0});
@@ -183,9 +192,7 @@ namespace
     // Two legs touching along their whole length: the contacts cut the
     // space between them into slivers bounded by two contacts each; the
     // tip beyond the last contact is the one loop.
-    Path path({-10.0, -half_gap});
-    path.line_to({0.0, -half_gap}).arc({0.0, 0.0}, M_PI).line_to({-10.0, half_gap});
-    const auto w = path.state();
+    const auto w = zipped_hairpin().state();
     ASSERT_GT(w.self_contacts.size(), 20u);
     EXPECT_EQ(analysis::count_loops(w), 1);
   }
@@ -194,9 +201,7 @@ namespace
   {
     // A tight bend (radius 0.45) brings points 1.4 d apart along the wire
     // within d of each other: within the exclusion length, no contact.
-    Path path({-10.0, -half_gap});
-    path.line_to({0.0, -half_gap}).arc({0.0, 0.0}, M_PI).line_to({-10.0, half_gap});
-    const auto w = path.state(false);
+    const auto w = zipped_hairpin().state(false);
     for (const auto &c : analysis::find_self_contacts(w))
       {
         EXPECT_GT(c.s_b - c.s_a, 3.0);

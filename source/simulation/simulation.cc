@@ -19,7 +19,6 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <stdexcept>
 
 namespace wirefem::simulation
@@ -33,12 +32,13 @@ namespace wirefem::simulation
       const auto c = io::read_series_columns(series_file, {"phi", "loops", "force"});
       const auto loops = analysis::fit_loop_exponent(c[0], c[1]);
       const auto force = analysis::fit_jamming_force(c[0], c[2], 0.5 * phi_final);
-      j["gamma"] = loops.ok ? nlohmann::json(loops.gamma) : nlohmann::json();
-      j["gamma_error"] = loops.ok ? nlohmann::json(loops.gamma_error) : nlohmann::json();
-      j["phi_c"] = force.ok ? nlohmann::json(force.phi_c) : nlohmann::json();
-      j["phi_c_error"] = force.ok ? nlohmann::json(force.phi_c_error) : nlohmann::json();
-      j["beta"] = force.ok ? nlohmann::json(force.beta) : nlohmann::json();
-      j["beta_error"] = force.ok ? nlohmann::json(force.beta_error) : nlohmann::json();
+      auto or_null = [](const bool ok, const double v) { return ok ? nlohmann::json(v) : nlohmann::json(); };
+      j["gamma"] = or_null(loops.ok, loops.gamma);
+      j["gamma_error"] = or_null(loops.ok, loops.gamma_error);
+      j["phi_c"] = or_null(force.ok, force.phi_c);
+      j["phi_c_error"] = or_null(force.ok, force.phi_c_error);
+      j["beta"] = or_null(force.ok, force.beta);
+      j["beta_error"] = or_null(force.ok, force.beta_error);
       j["fits"]["loops"] = loops.ok ? nlohmann::json{{"gamma", loops.gamma},
                                                      {"gamma_error", loops.gamma_error},
                                                      {"log_prefactor", loops.log_prefactor},
@@ -56,10 +56,7 @@ namespace wirefem::simulation
                                                      {"rows", force.n_points}}
                                     : nlohmann::json{{"reason", force.reason}};
     }
-  } // namespace
 
-  namespace
-  {
     const std::vector<std::string> columns = {"time",
                                               "injected_length",
                                               "phi",

@@ -92,6 +92,16 @@ namespace wirefem::simulation
       return c;
     }
 
+    /// The base scene's overrides that make it this case.
+    std::vector<std::string> case_overrides(const Sweep &s, const Case &c)
+    {
+      auto o = s.overrides;
+      o.push_back(fmt::format("Wire/Plasticity/Yield curvature={}", c.kappa));
+      o.push_back(fmt::format("Contact/Friction/Static coefficient={}", c.mu));
+      o.push_back(fmt::format("Injection/Seed={}", c.seed));
+      return o;
+    }
+
     /// The summary of a finished case, or null.
     nlohmann::json finished_summary(const Case &c)
     {
@@ -132,7 +142,7 @@ namespace wirefem::simulation
       std::vector<std::map<std::string, int>> votes(n_rows * n_cols);
       std::vector<std::vector<double>> pooled_phi(n_rows * n_cols), pooled_loops(n_rows * n_cols),
           pooled_force(n_rows * n_cols);
-      std::vector<double> mean_phi_final(n_rows * n_cols, 0.0);
+      std::vector<double> sum_phi_final(n_rows * n_cols, 0.0);
       int finished = 0;
       for (const auto &c : all)
         {
@@ -166,7 +176,7 @@ namespace wirefem::simulation
           pooled_phi[cell].insert(pooled_phi[cell].end(), col[0].begin(), col[0].end());
           pooled_loops[cell].insert(pooled_loops[cell].end(), col[1].begin(), col[1].end());
           pooled_force[cell].insert(pooled_force[cell].end(), col[2].begin(), col[2].end());
-          mean_phi_final[cell] += j.value("phi_final", 0.0);
+          sum_phi_final[cell] += j.value("phi_final", 0.0);
         }
 
       std::ofstream cells((out / "cells.csv").string());
@@ -184,23 +194,11 @@ namespace wirefem::simulation
                   d.majority = phase;
                 }
             d.fraction = d.runs > 0 ? static_cast<double>(d.votes) / d.runs : 0.0;
-            // Fits on the realizations pooled (rows sorted by phi).
-            std::vector<std::size_t> order(pooled_phi[cell].size());
-            for (std::size_t k = 0; k < order.size(); ++k)
-              order[k] = k;
-            std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-              return pooled_phi[cell][a] < pooled_phi[cell][b];
-            });
-            std::vector<double> phi, loops, force;
-            for (const auto k : order)
-              {
-                phi.push_back(pooled_phi[cell][k]);
-                loops.push_back(pooled_loops[cell][k]);
-                force.push_back(pooled_force[cell][k]);
-              }
-            const auto g = analysis::fit_loop_exponent(phi, loops);
-            const double phi_end = d.runs > 0 ? mean_phi_final[cell] / d.runs : 0.0;
-            const auto f = analysis::fit_jamming_force(phi, force, 0.5 * phi_end);
+            // Fits on the rows of the realizations pooled (neither fit
+            // depends on the order of its rows).
+            const auto g = analysis::fit_loop_exponent(pooled_phi[cell], pooled_loops[cell]);
+            const double phi_end = d.runs > 0 ? sum_phi_final[cell] / d.runs : 0.0;
+            const auto f = analysis::fit_jamming_force(pooled_phi[cell], pooled_force[cell], 0.5 * phi_end);
             auto value = [](const bool ok, const double v) {
               return ok ? fmt::format("{}", v) : std::string();
             };
@@ -302,13 +300,7 @@ namespace wirefem::simulation
                              : (fs::path("output") / fs::path(file).stem()).string();
     // Every case's scene must be valid before anything runs.
     for (const auto &c : cases(s))
-      {
-        auto o = s.overrides;
-        o.push_back(fmt::format("Wire/Plasticity/Yield curvature={}", c.kappa));
-        o.push_back(fmt::format("Contact/Friction/Static coefficient={}", c.mu));
-        o.push_back(fmt::format("Injection/Seed={}", c.seed));
-        scene::read_scene(s.base_scene, o);
-      }
+      scene::read_scene(s.base_scene, case_overrides(s, c));
     return s;
   }
 
@@ -328,10 +320,7 @@ namespace wirefem::simulation
             ++skipped;
             continue;
           }
-        auto o = s.overrides;
-        o.push_back(fmt::format("Wire/Plasticity/Yield curvature={}", c.kappa));
-        o.push_back(fmt::format("Contact/Friction/Static coefficient={}", c.mu));
-        o.push_back(fmt::format("Injection/Seed={}", c.seed));
+        auto o = case_overrides(s, c);
         o.push_back("Output/Directory=" + c.dir);
         o.push_back("Output/Progress=off");
         const auto scene = scene::read_scene(s.base_scene, o);
