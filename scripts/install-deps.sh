@@ -10,7 +10,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libbenchmark-dev
   openmpi-bin             # mpirun for parameter sweeps
-  numdiff python3 python3-numpy python3-matplotlib python3-pil
+  numdiff python3 python3-numpy python3-scipy python3-matplotlib python3-pil
 )
 missing=()
 for p in "${packages[@]}"; do

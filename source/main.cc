@@ -3,6 +3,7 @@
 // 130 interrupted (a checkpoint was written; continue with --resume).
 #include <wirefem/analysis/shape_io.h>
 #include <wirefem/scene/scene_reader.h>
+#include <wirefem/simulation/cantilever.h>
 #include <wirefem/simulation/simulation.h>
 #include <wirefem/simulation/sweep.h>
 
@@ -138,6 +139,8 @@ int main(int argc, char **argv)
     }
   try
     {
+      if (scene.setup == wirefem::scene::Setup::cantilever)
+        return wirefem::simulation::run_cantilever(scene).converged ? 0 : 3;
       const auto result = wirefem::simulation::run(scene, {resume});
       return result.interrupted ? 130 : (result.failed ? 3 : 0);
     }

@@ -4,6 +4,7 @@
 #include <wirefem/discrete/terms.h>
 #include <wirefem/injection/channels.h>
 #include <wirefem/scene/scene_reader.h>
+#include <wirefem/simulation/cantilever.h>
 
 #include <gtest/gtest.h>
 
@@ -95,6 +96,76 @@ namespace
     Chain c = wiggly_chain(10, 0.2, 4);
     c.x[6] = c.x[5] + Vec2{0.2, 0.9}; // a sharp corner
     expect_forces_match_energy(term, c, 1e-6);
+  }
+
+  TEST(ForceTerms, ClampIsTheGradientOfItsEnergy)
+  {
+    discrete::ClampTerm term(material::MomentCurvatureLaw(120.0), Vec2{0.6, 0.8});
+    expect_forces_match_energy(term, wiggly_chain(6, 0.3, 11), 1e-6);
+  }
+
+  TEST(ForceTerms, EndLoadIsTheGradientOfItsPotential)
+  {
+    discrete::EndLoadTerm term(Vec2{0.3, -1.2}, 2.5);
+    term.set_load_factor(0.7);
+    Chain c = wiggly_chain(6, 0.3, 12);
+    std::fill(c.f.begin(), c.f.end(), Vec2{});
+    StepEnergy e;
+    term.add_forces(c, 1e-3, e);
+    const auto forces = c.f;
+    const double h = 1e-6;
+    for (int k = c.first; k < c.last; ++k)
+      for (int dim = 0; dim < 2; ++dim)
+        {
+          Chain plus = c, minus = c;
+          (dim ? plus.x[k].y : plus.x[k].x) += h;
+          (dim ? minus.x[k].y : minus.x[k].x) -= h;
+          const double fd = -(term.potential(plus) - term.potential(minus)) / (2 * h);
+          EXPECT_NEAR(dim ? forces[k].y : forces[k].x, fd, 1e-6 * 2.5) << "node " << k << " dim " << dim;
+        }
+  }
+
+  TEST(ForceTerms, EndLoadFollowsTheEndThroughFullTurns)
+  {
+    // The moment's potential -M phi needs phi continuous: turn the last
+    // segment once round in small steps, committing each.
+    discrete::EndLoadTerm term(Vec2{}, 1.0);
+    Chain c = wiggly_chain(3, 0.0, 13);
+    const Vec2 pivot = c.x[c.last - 2];
+    for (int i = 1; i <= 100; ++i)
+      {
+        const double a = 2.0 * M_PI * 1.25 * i / 100.0;
+        c.x[c.last - 1] = pivot + Vec2{std::cos(a), std::sin(a)};
+        StepEnergy e;
+        term.add_forces(c, 1e-3, e);
+        term.commit();
+      }
+    EXPECT_NEAR(term.end_angle(c), 2.5 * M_PI, 1e-12);
+  }
+
+  TEST(Cantilever, EndMomentRelaxesToTheDiscreteArc)
+  {
+    // Pure bending: every interior node turns by zeta = M lambda_0/EI, the
+    // clamp's half-length spring by zeta/2, no segment stretches. The free
+    // end is then sum_i lambda_0 (cos, sin)((i + 1/2) zeta) in closed form.
+    const double L = 10.0, l0 = 1.0, EI = 60.0, M = 0.5 * M_PI * EI / L;
+    auto s = scene::read_scene("", {"Set-up=cantilever", "Cantilever/Length=10", "Cantilever/End moment=" +
+                                                                                    std::to_string(M),
+                                    "Cantilever/Load time=20", "Cantilever/Tolerance=1e-10",
+                                    "Wire/Plasticity/Enabled=false"});
+    s.output.directory = testing::TempDir() + "wirefem_cantilever_moment";
+    const auto r = simulation::run_cantilever(s);
+    ASSERT_TRUE(r.converged);
+    const double zeta = std::stod(std::to_string(M)) * l0 / EI;
+    double x = 0.0, y = 0.0;
+    for (int i = 0; i < 10; ++i)
+      {
+        x += l0 * std::cos((i + 0.5) * zeta);
+        y += l0 * std::sin((i + 0.5) * zeta);
+      }
+    EXPECT_NEAR(r.tip_x, x, 1e-7 * L);
+    EXPECT_NEAR(r.tip_y, y, 1e-7 * L);
+    EXPECT_NEAR(r.tip_rotation, 10 * zeta, 1e-7);
   }
 
   TEST(ForceTerms, WallContactIsTheGradientOfItsEnergy)

@@ -41,6 +41,33 @@ foreach(case "radius;Cavity/Radius=-3" "dynamic;Contact/Friction/Dynamic coeffic
   set_tests_properties(scene.bad_input_${name} PROPERTIES LABELS regression)
 endforeach()
 
+# The same for the benchmark set-up of validation/ (Set-up = cantilever).
+foreach(case "cantilever_fem;Model=fem" "cantilever_segments;Discrete/Segment length=0.3"
+        "cantilever_length;Cantilever/Length=-1")
+  list(GET case 0 name)
+  list(GET case 1 setting)
+  add_test(NAME scene.bad_input_${name}
+           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/validation/cantilever/moment.prm
+                   -DSETTING=${setting} -DOUT=${SCENE_OUT}/bad_${name}
+                   -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_bad_input.cmake)
+  set_tests_properties(scene.bad_input_${name} PROPERTIES LABELS regression)
+endforeach()
+
+# A coarse cantilever (10 segments) relaxes to equilibrium through the executable.
+add_test(NAME scene.cantilever_runs
+         COMMAND ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/validation/cantilever/tip_load.prm
+                 --set Discrete/Segment length=2 --set Output/Directory=${SCENE_OUT}/cantilever)
+set_tests_properties(scene.cantilever_runs PROPERTIES LABELS regression
+                     PASS_REGULAR_EXPRESSION "finished: equilibrium")
+
+# Validation studies (ctest -L validation; validation/README.md). Debian's
+# python3 (numpy, scipy, matplotlib), whatever python3 comes first on PATH.
+find_program(WIREFEM_PYTHON python3 PATHS /usr/bin NO_DEFAULT_PATH)
+add_test(NAME validation.cantilever
+         COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/cantilever/run.py ${WIREFEM_EXE}
+                 ${CMAKE_BINARY_DIR}/validation/cantilever)
+set_tests_properties(validation.cantilever PROPERTIES LABELS validation TIMEOUT 1800)
+
 # Hard cases: each runs to its end (jamming or the maximum density) without a
 # numerical stop. summary.json must say failed = false (checked by the script).
 foreach(case "mu5;Contact/Friction/Static coefficient=5"

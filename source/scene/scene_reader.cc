@@ -133,6 +133,24 @@ namespace wirefem::scene
 
       d.declare("Model", "discrete", Patterns::Selection("discrete|fem"),
                 "Wire model: 'discrete' (the paper's spring chain) or 'fem' (geometrically exact rod).");
+      d.declare("Set-up", "injection", Patterns::Selection("injection|cantilever"),
+                "'injection': the wire pushed into the cavity (the paper). 'cantilever': a benchmark of "
+                "validation/, a straight rod clamped at the origin and loaded at its free end "
+                "(Cantilever subsection); discrete model only so far.");
+      d.declare("Cantilever/Length", "20", any_double, "Rod length L (d), along +x from the clamp.");
+      d.declare("Cantilever/End force x", "0", any_double, "Dead force on the free end, x (force).");
+      d.declare("Cantilever/End force y", "0", any_double, "Dead force on the free end, y (force).");
+      d.declare("Cantilever/End moment", "0", any_double,
+                "Moment on the free end (force d), positive counter-clockwise.");
+      d.declare("Cantilever/Load time", "100", any_double,
+                "The load rises linearly from zero over this time; then the run relaxes to equilibrium.");
+      d.declare("Cantilever/Damping", "0", any_double,
+                "gamma of the relaxation drag -gamma m v (1/time); 0: twice the first bending frequency "
+                "of the unloaded cantilever (critical damping of that mode).");
+      d.declare("Cantilever/Tolerance", "1e-10", any_double,
+                "Equilibrium: the largest nodal force below this times EI/L^2 + |F| + |M|/L.");
+      d.declare("Cantilever/Maximum time", "1e6", any_double,
+                "Stop with exit status 3 when not in equilibrium by this time.");
       d.declare("Cavity/Radius", "10", any_double,
                 "Cavity radius r in units of the wire diameter d, i.e. f = r/d. Must be > 1.");
 
@@ -285,6 +303,16 @@ namespace wirefem::scene
     {
       Scene s;
       s.model = d.get("Model") == "fem" ? ModelType::fem : ModelType::discrete;
+      s.setup = d.get("Set-up") == "cantilever" ? Setup::cantilever : Setup::injection;
+      auto &cl = s.cantilever;
+      cl.length = d.get_double("Cantilever/Length");
+      cl.end_force_x = d.get_double("Cantilever/End force x");
+      cl.end_force_y = d.get_double("Cantilever/End force y");
+      cl.end_moment = d.get_double("Cantilever/End moment");
+      cl.load_time = d.get_double("Cantilever/Load time");
+      cl.damping = d.get_double("Cantilever/Damping");
+      cl.tolerance = d.get_double("Cantilever/Tolerance");
+      cl.maximum_time = d.get_double("Cantilever/Maximum time");
       s.cavity.radius = d.get_double("Cavity/Radius");
       s.wire.axial_stiffness = d.get_double("Wire/Axial stiffness");
       s.wire.bending_stiffness = d.get_double("Wire/Bending stiffness");
@@ -402,11 +430,31 @@ namespace wirefem::scene
       check(in.jamming_window > 0, w, "Injection/Jamming window", "must be positive");
       check(in.maximum_time > 0, w, "Injection/Maximum time", "must be positive");
       const auto &ds = s.discrete;
-      check(ds.segment_length > 0 && ds.segment_length <= 0.25 * s.cavity.radius, w,
-            "Discrete/Segment length", "must be in (0, r/4]");
-      const double n_segments = 2.0 * s.cavity.radius / ds.segment_length;
-      check(std::abs(n_segments - std::round(n_segments)) < 1e-9 * n_segments, w, "Discrete/Segment length",
-            "2 r / lambda_0 = " + std::to_string(n_segments) + " must be a whole number of segments");
+      if (s.setup == Setup::cantilever)
+        {
+          const auto &cl = s.cantilever;
+          check(s.model == ModelType::discrete, w, "Set-up",
+                "'cantilever' is available with Model = discrete only (not yet with the FEM)");
+          check(cl.length > 0, w, "Cantilever/Length", "must be positive");
+          check(ds.segment_length > 0 && ds.segment_length <= 0.5 * cl.length, w, "Discrete/Segment length",
+                "must be in (0, L/2]");
+          const double n = cl.length / ds.segment_length;
+          check(std::abs(n - std::round(n)) < 1e-9 * n, w, "Discrete/Segment length",
+                "L / lambda_0 = " + std::to_string(n) + " must be a whole number of segments");
+          check(cl.load_time >= 0, w, "Cantilever/Load time", "must not be negative");
+          check(cl.damping >= 0, w, "Cantilever/Damping", "must not be negative");
+          check(cl.tolerance > 0, w, "Cantilever/Tolerance", "must be positive");
+          check(cl.maximum_time > cl.load_time, w, "Cantilever/Maximum time", "must exceed the load time");
+        }
+      else
+        {
+          check(ds.segment_length > 0 && ds.segment_length <= 0.25 * s.cavity.radius, w,
+                "Discrete/Segment length", "must be in (0, r/4]");
+          const double n_segments = 2.0 * s.cavity.radius / ds.segment_length;
+          check(std::abs(n_segments - std::round(n_segments)) < 1e-9 * n_segments, w,
+                "Discrete/Segment length",
+                "2 r / lambda_0 = " + std::to_string(n_segments) + " must be a whole number of segments");
+        }
       check(ds.time_step >= 0, w, "Discrete/Time step", "must not be negative");
       check(ds.time_step_factor > 0 && ds.time_step_factor < 1, w, "Discrete/Time step factor",
             "must be in (0, 1)");

@@ -168,6 +168,57 @@ namespace wirefem::discrete
     PreviousRates<geometry::Vec2> previous; // velocity per node
   };
 
+  /// The clamp of a cantilever (Set-up = cantilever): the first active node
+  /// is held in place and the first segment's direction is held along
+  /// `direction` by a rotational spring. That spring stands for the half
+  /// segment of wire next to the clamp, so its stiffness is 2 k2 and its
+  /// yield angle alpha/2 (the same yield moment): the turning angle zeta_0
+  /// between the clamp direction and the first segment then approximates the
+  /// curvature at the clamp as zeta_0 = kappa lambda_0/2, and the chain's
+  /// segment directions are the continuum's at the segment midpoints, which
+  /// keeps the discretisation second order. Its energy is booked as bending.
+  class ClampTerm : public Term
+  {
+  public:
+    /// law: the interior nodes' law (stiffness k2, yield angle alpha).
+    ClampTerm(const material::MomentCurvatureLaw &clamp_law, geometry::Vec2 direction);
+    const char *name() const override { return "clamp"; }
+    void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+    void commit() override { state = trial_state; }
+    /// zeta_0 at the current state.
+    double angle(const Chain &chain) const;
+
+  private:
+    material::MomentCurvatureLaw law;
+    geometry::Vec2 direction;
+    material::PlasticState state, trial_state;
+  };
+
+  /// A dead force and a moment on the free end of a cantilever (the last
+  /// active node and the last segment), scaled by a load factor. Potential
+  /// V = -factor (F . x_N + M phi), phi the direction angle of the last
+  /// segment, followed continuously through full turns (unwrapped against
+  /// the committed angle).
+  class EndLoadTerm : public Term
+  {
+  public:
+    EndLoadTerm(geometry::Vec2 force, double moment);
+    const char *name() const override { return "end load"; }
+    void set_load_factor(double f) { factor = f; }
+    void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+    void commit() override { committed_angle = trial_angle; }
+    /// Unwrapped direction angle of the last segment.
+    double end_angle(const Chain &chain) const;
+    /// V at the current state.
+    double potential(const Chain &chain) const;
+
+  private:
+    geometry::Vec2 force;
+    double moment;
+    double factor = 1.0;
+    double committed_angle = 0.0, trial_angle = 0.0;
+  };
+
   /// Parameters shared by the contact terms.
   struct ContactLaw
   {

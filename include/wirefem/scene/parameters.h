@@ -23,6 +23,32 @@ namespace wirefem::scene
     isotropic
   };
 
+  /// What the run does: the paper's injection into the cavity, or a
+  /// benchmark set-up of validation/ (a rod clamped at one end and loaded at
+  /// the other, in free space).
+  enum class Setup
+  {
+    injection,
+    cantilever
+  };
+
+  /// Set-up = cantilever: a straight rod of length L along +x, clamped at the
+  /// origin (position and tangent), loaded at its free end by a dead force
+  /// and a moment, both ramped linearly from zero over the load time; the
+  /// run relaxes to static equilibrium (discrete model: dynamic relaxation
+  /// with mass-proportional damping).
+  struct CantileverParameters
+  {
+    double length = 20.0;     ///< L (d)
+    double end_force_x = 0.0; ///< dead end force (force)
+    double end_force_y = 0.0;
+    double end_moment = 0.0;       ///< end moment (force d), + = counter-clockwise
+    double load_time = 100.0;      ///< ramp of the load (time)
+    double damping = 0.0;          ///< gamma of -gamma m v; 0: critical for the first mode
+    double tolerance = 1e-10;      ///< largest nodal force / force scale at equilibrium
+    double maximum_time = 1.0e6;   ///< give up (exit 3) when not in equilibrium by then
+  };
+
   struct CavityParameters
   {
     double radius = 10.0; ///< r in units of d (f = r/d)
@@ -129,6 +155,8 @@ namespace wirefem::scene
     std::string name;     ///< prm file stem
     std::string prm_file; ///< as given on the command line
     ModelType model = ModelType::discrete;
+    Setup setup = Setup::injection;
+    CantileverParameters cantilever;
     CavityParameters cavity;
     WireParameters wire;
     ContactParameters contact;

@@ -1,0 +1,72 @@
+#include <wirefem/discrete/terms.h>
+
+#include <cmath>
+
+namespace wirefem::discrete
+{
+  using geometry::Vec2;
+
+  ClampTerm::ClampTerm(const material::MomentCurvatureLaw &clamp_law, const Vec2 direction)
+    : law(clamp_law)
+    , direction((1.0 / norm(direction)) * direction)
+  {
+  }
+
+  double ClampTerm::angle(const Chain &c) const
+  {
+    const Vec2 b = c.x[c.first + 1] - c.x[c.first];
+    return std::atan2(cross(direction, b), dot(direction, b));
+  }
+
+  void ClampTerm::add_forces(Chain &c, double, StepEnergy &e)
+  {
+    const Vec2 b = c.x[c.first + 1] - c.x[c.first];
+    const double zeta = angle(c);
+    double moment;
+    if (law.is_plastic())
+      {
+        const auto r = law.evaluate(zeta, state);
+        trial_state = r.state;
+        moment = r.moment;
+        e.plastic_work += r.plastic_work;
+        e.bending += law.elastic_energy(zeta, r.state);
+      }
+    else
+      {
+        moment = law.elastic_stiffness() * zeta;
+        e.bending += 0.5 * moment * zeta;
+      }
+    // d zeta / d x_{first+1} = perp(b)/|b|^2; the clamp node takes the reaction.
+    const Vec2 g = (1.0 / norm_square(b)) * perp(b);
+    c.f[c.first + 1] -= moment * g;
+    c.f[c.first] += moment * g;
+  }
+
+  EndLoadTerm::EndLoadTerm(const Vec2 force, const double moment)
+    : force(force)
+    , moment(moment)
+  {
+  }
+
+  double EndLoadTerm::end_angle(const Chain &c) const
+  {
+    const Vec2 b = c.x[c.last - 1] - c.x[c.last - 2];
+    const double raw = std::atan2(b.y, b.x);
+    return committed_angle + std::remainder(raw - committed_angle, 2.0 * M_PI);
+  }
+
+  double EndLoadTerm::potential(const Chain &c) const
+  {
+    return -factor * (dot(force, c.x[c.last - 1]) + moment * end_angle(c));
+  }
+
+  void EndLoadTerm::add_forces(Chain &c, double, StepEnergy &)
+  {
+    const int n = c.last - 1;
+    const Vec2 b = c.x[n] - c.x[n - 1];
+    trial_angle = end_angle(c);
+    const Vec2 g = (1.0 / norm_square(b)) * perp(b); // d phi / d x_N
+    c.f[n] += factor * (force + moment * g);
+    c.f[n - 1] -= factor * moment * g;
+  }
+} // namespace wirefem::discrete

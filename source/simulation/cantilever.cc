@@ -1,0 +1,160 @@
+#include <wirefem/discrete/terms.h>
+#include <wirefem/simulation/cantilever.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <vector>
+
+namespace wirefem::simulation
+{
+  using geometry::Vec2;
+
+  CantileverResult run_cantilever(const scene::Scene &scene)
+  {
+    const auto wall_start = std::chrono::steady_clock::now();
+    const auto &cl = scene.cantilever;
+    const auto &w = scene.wire;
+    const double L = cl.length;
+    const double l0 = scene.discrete.segment_length;
+    const int n = static_cast<int>(std::lround(L / l0));
+    const double k1 = w.axial_stiffness / l0;
+    const double k2 = w.bending_stiffness / l0;
+    const double mass = w.mass_per_length * l0;
+
+    discrete::Chain c(n + 1);
+    c.lambda0 = l0;
+    c.node_mass = mass;
+    c.first = 0;
+    c.last = n + 1;
+    c.n_prescribed = 1;
+    for (int k = 0; k <= n; ++k)
+      c.x[k] = {k * l0, 0.0};
+
+    // The same choice of law as the injection scenes (discrete/chain_model.cc).
+    const auto &pl = w.plasticity;
+    const double alpha = scene.yield_angle();
+    const bool plastic = pl.enabled && (scene.keep_neutral_effects || (alpha < M_PI && pl.hardening_slope < 1.0));
+    const auto law = plastic ? material::MomentCurvatureLaw(k2, alpha, pl.hardening_slope, pl.hardening)
+                             : material::MomentCurvatureLaw(k2);
+    const auto clamp_law = plastic
+                               ? material::MomentCurvatureLaw(2.0 * k2, 0.5 * alpha, pl.hardening_slope, pl.hardening)
+                               : material::MomentCurvatureLaw(2.0 * k2);
+    std::vector<std::unique_ptr<discrete::Term>> terms;
+    terms.push_back(std::make_unique<discrete::StretchingTerm>(k1));
+    terms.push_back(std::make_unique<discrete::BendingTerm>(law, 0.0, n + 1));
+    terms.push_back(std::make_unique<discrete::ClampTerm>(clamp_law, Vec2{1.0, 0.0}));
+    auto end_load = std::make_unique<discrete::EndLoadTerm>(Vec2{cl.end_force_x, cl.end_force_y}, cl.end_moment);
+    auto *load = end_load.get();
+    terms.push_back(std::move(end_load));
+    std::vector<std::string> effects{"stretching", "bending"};
+    if (plastic)
+      effects.push_back("plasticity");
+    effects.push_back("end load");
+
+    // Explicit stability as in the injection scenes; the drag is mass
+    // proportional, so every mode decays at gamma/2 (the first critically).
+    const double omega2 = 4.0 * k1 / mass + 16.0 * k2 / (mass * l0 * l0);
+    const double dt = scene.discrete.time_step > 0.0 ? scene.discrete.time_step
+                                                     : scene.discrete.time_step_factor * 2.0 / std::sqrt(omega2);
+    const double omega1 = 3.5160 * std::sqrt(w.bending_stiffness / (w.mass_per_length * L * L * L * L));
+    const double gamma = cl.damping > 0.0 ? cl.damping : 2.0 * omega1;
+    const double scale = w.bending_stiffness / (L * L) + std::hypot(cl.end_force_x, cl.end_force_y) +
+                         std::abs(cl.end_moment) / L;
+
+    const std::filesystem::path dir(scene.output.directory);
+    std::filesystem::create_directories(dir);
+    std::cout << fmt::format("wirefem: scene {} (cantilever, discrete model), L = {}, {} segments, dt = {:.4g}, "
+                             "drag gamma = {:.4g}\n",
+                             scene.name, L, n, dt, gamma)
+              << "active effects: stretching, bending" << (plastic ? ", plasticity" : "") << ", end load\n"
+              << "output: " << dir.string() << std::endl;
+
+    CantileverResult result;
+    double t = 0.0;
+    discrete::StepEnergy e;
+    const double a = 0.5 * gamma * dt;
+    while (true)
+      {
+        load->set_load_factor(cl.load_time > 0.0 ? std::min(1.0, t / cl.load_time) : 1.0);
+        std::fill(c.f.begin(), c.f.end(), Vec2{});
+        e = discrete::StepEnergy{};
+        for (auto &term : terms)
+          term->add_forces(c, dt, e);
+        double fmax = 0.0;
+        for (int k = 1; k <= n; ++k)
+          fmax = std::max(fmax, norm(c.f[k]));
+        result.residual = fmax / scale;
+        if (t >= cl.load_time && result.residual < cl.tolerance)
+          {
+            result.converged = true;
+            break;
+          }
+        if (t >= cl.maximum_time || !std::isfinite(fmax))
+          break;
+        // Semi-implicit Euler with the drag taken at the step's midpoint.
+        for (int k = 1; k <= n; ++k)
+          {
+            c.v[k] = (1.0 / (1.0 + a)) * ((1.0 - a) * c.v[k] + (dt / mass) * c.f[k]);
+            c.x[k] += dt * c.v[k];
+          }
+        for (auto &term : terms)
+          term->commit();
+        t += dt;
+        ++result.steps;
+      }
+
+    result.tip_x = c.x[n].x;
+    result.tip_y = c.x[n].y;
+    result.tip_rotation = load->end_angle(c) + (n >= 2 ? 0.5 * discrete::BendingTerm::turning_angle(c, n - 1) : 0.0);
+    result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+    {
+      std::ofstream shape(dir / "shape.csv");
+      shape << "s,x,y\n";
+      for (int k = 0; k <= n; ++k)
+        shape << fmt::format("{:.17g},{:.17g},{:.17g}\n", k * l0, c.x[k].x, c.x[k].y);
+    }
+    nlohmann::json j;
+    j["setup"] = "cantilever";
+    j["model"] = "discrete";
+    j["length"] = L;
+    j["segments"] = n;
+    j["segment_length"] = l0;
+    j["end_force"] = {cl.end_force_x, cl.end_force_y};
+    j["end_moment"] = cl.end_moment;
+    j["tip_x"] = result.tip_x;
+    j["tip_y"] = result.tip_y;
+    j["tip_rotation"] = result.tip_rotation;
+    j["residual"] = result.residual;
+    j["converged"] = result.converged;
+    j["steps"] = result.steps;
+    j["time"] = t;
+    j["time_step"] = dt;
+    j["damping"] = gamma;
+    j["wall_time_s"] = result.wall_time_s;
+    j["active_effects"] = effects;
+    j["energy"] = {{"bending", e.bending}, {"stretching", e.stretching}, {"load_potential", load->potential(c)}};
+    const auto tmp = dir / "summary.json.tmp";
+    std::ofstream(tmp.string()) << j.dump(2) << '\n';
+    std::filesystem::rename(tmp, dir / "summary.json");
+
+    if (result.converged)
+      std::cout << fmt::format("finished: equilibrium (residual {:.2e}) after {} steps, t = {:.6g}, {:.2f} s\n"
+                               "tip = ({:.12g}, {:.12g}), tip rotation = {:.12g}\n",
+                               result.residual, result.steps, t, result.wall_time_s, result.tip_x, result.tip_y,
+                               result.tip_rotation);
+    else
+      std::cerr << fmt::format("wirefem: error: no equilibrium by Cantilever/Maximum time = {:g}: residual "
+                               "{:.3e} > Cantilever/Tolerance = {:g}{}\n",
+                               cl.maximum_time, result.residual, cl.tolerance,
+                               std::isfinite(result.residual) ? "" : " (not finite)");
+    return result;
+  }
+} // namespace wirefem::simulation

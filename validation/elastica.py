@@ -1,0 +1,76 @@
+"""Reference solutions for the validation cases, computed here from their
+closed forms or by shooting with a library ODE integrator (scipy).
+
+Cantilever of length L along +x, clamped at the origin, with a dead end force
+P = (Px, Py) and an end moment M. The internal force is P everywhere; with the
+tangent t = (cos theta, sin theta) the axial strain is eps = P.t / EA (the
+extensible elastica, as both wirefem models: the discrete chain's tensile
+springs and the rod's axial strain). Unknown: the moment at the clamp m(0);
+integrate
+    x' = (1 + eps) cos theta,  y' = (1 + eps) sin theta,
+    theta' = m / EI,           m' = -(r' x P)_z
+from s = 0 to L and solve m(L) = M by Brent's method on a bracket that holds
+the branch connected to the unloaded rod (continuation in the load).
+"""
+import math
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+
+def _integrate(m0, L, EA, EI, P, dense=False):
+    px, py = P
+
+    def rhs(_s, u):
+        x, y, th, m = u
+        c, s = math.cos(th), math.sin(th)
+        stretch = 1.0 + (px * c + py * s) / EA
+        dx, dy = stretch * c, stretch * s
+        return [dx, dy, m / EI, -(dx * py - dy * px)]
+
+    return solve_ivp(rhs, (0.0, L), [0.0, 0.0, 0.0, m0], method="DOP853", rtol=1e-13, atol=1e-14,
+                     dense_output=dense)
+
+
+def cantilever(L, EA, EI, P=(0.0, 0.0), M=0.0, steps=20):
+    """Tip (x, y, rotation) of the loaded cantilever. The load is raised in
+    `steps` increments; each solve brackets m(0) around the previous one."""
+    m0 = 0.0
+    for k in range(1, steps + 1):
+        f = k / steps
+        Pk = (f * P[0], f * P[1])
+        Mk = f * M
+
+        def miss(m):
+            return _integrate(m, L, EA, EI, Pk).y[3, -1] - Mk
+
+        scale = EI / L + math.hypot(*Pk) * L + abs(Mk)
+        width = 0.05 * scale
+        lo, hi = m0 - width, m0 + width
+        grow = 0
+        while miss(lo) * miss(hi) > 0.0:
+            width *= 2.0
+            lo, hi = m0 - width, m0 + width
+            grow += 1
+            if grow > 20:
+                raise RuntimeError("no bracket for m(0)")
+        m0 = brentq(miss, lo, hi, xtol=1e-15 * scale, rtol=1e-15, maxiter=200)
+    sol = _integrate(m0, L, EA, EI, P)
+    x, y, th, _ = sol.y[:, -1]
+    return float(x), float(y), float(th)
+
+
+def rolled_up(L, EI, M):
+    """Exact end-moment cantilever (no axial force, so no stretch): a circular
+    arc of radius EI/M."""
+    rho = EI / M
+    th = L / rho
+    return rho * math.sin(th), rho * (1.0 - math.cos(th)), th
+
+
+if __name__ == "__main__":
+    # Inextensible check against the classical elastica numbers (stiff EA).
+    for load in (1, 2, 5, 10):
+        x, y, th = cantilever(1.0, 1e12, 1.0, (0.0, -load))
+        print(f"PL^2/EI = {load:2d}: 1 - x/L = {1 - x:.5f}, -y/L = {-y:.5f}, rotation = {-th:.5f}")
