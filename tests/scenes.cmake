@@ -42,7 +42,7 @@ foreach(case "radius;Cavity/Radius=-3" "dynamic;Contact/Friction/Dynamic coeffic
 endforeach()
 
 # The same for the benchmark set-up of validation/ (Set-up = cantilever).
-foreach(case "cantilever_fem;Model=fem" "cantilever_segments;Discrete/Segment length=0.3"
+foreach(case "cantilever_load_time;Cantilever/Load time=-1" "cantilever_segments;Discrete/Segment length=0.3"
         "cantilever_length;Cantilever/Length=-1")
   list(GET case 0 name)
   list(GET case 1 setting)

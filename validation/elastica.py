@@ -3,11 +3,12 @@ closed forms or by shooting with a library ODE integrator (scipy).
 
 Cantilever of length L along +x, clamped at the origin, with a dead end force
 P = (Px, Py) and an end moment M. The internal force is P everywhere; with the
-tangent t = (cos theta, sin theta) the axial strain is eps = P.t / EA (the
-extensible elastica, as both wirefem models: the discrete chain's tensile
-springs and the rod's axial strain). Unknown: the moment at the clamp m(0);
-integrate
-    x' = (1 + eps) cos theta,  y' = (1 + eps) sin theta,
+section's axis t = (cos theta, sin theta) and normal n = (-sin theta, cos
+theta) the axial strain is eps = P.t / EA and the shear strain gamma = P.n /
+GA (the extensible elastica of the discrete chain has GA = inf; the Reissner
+rod FEM its shear stiffness, the Kirchhoff variant its penalty). Unknown: the
+moment at the clamp m(0); integrate
+    r' = (1 + eps) t + gamma n,
     theta' = m / EI,           m' = -(r' x P)_z
 from s = 0 to L and solve m(L) = M by Brent's method on a bracket that holds
 the branch connected to the unloaded rod (continuation in the load).
@@ -19,21 +20,22 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 
-def _integrate(m0, L, EA, EI, P, dense=False):
+def _integrate(m0, L, EA, EI, P, GA=math.inf, dense=False):
     px, py = P
 
     def rhs(_s, u):
         x, y, th, m = u
         c, s = math.cos(th), math.sin(th)
         stretch = 1.0 + (px * c + py * s) / EA
-        dx, dy = stretch * c, stretch * s
+        shear = (-px * s + py * c) / GA
+        dx, dy = stretch * c - shear * s, stretch * s + shear * c
         return [dx, dy, m / EI, -(dx * py - dy * px)]
 
     return solve_ivp(rhs, (0.0, L), [0.0, 0.0, 0.0, m0], method="DOP853", rtol=1e-13, atol=1e-14,
                      dense_output=dense)
 
 
-def cantilever(L, EA, EI, P=(0.0, 0.0), M=0.0, steps=20):
+def cantilever(L, EA, EI, P=(0.0, 0.0), M=0.0, GA=math.inf, steps=20):
     """Tip (x, y, rotation) of the loaded cantilever. The load is raised in
     `steps` increments; each solve brackets m(0) around the previous one."""
     m0 = 0.0
@@ -43,7 +45,7 @@ def cantilever(L, EA, EI, P=(0.0, 0.0), M=0.0, steps=20):
         Mk = f * M
 
         def miss(m):
-            return _integrate(m, L, EA, EI, Pk).y[3, -1] - Mk
+            return _integrate(m, L, EA, EI, Pk, GA).y[3, -1] - Mk
 
         scale = EI / L + math.hypot(*Pk) * L + abs(Mk)
         width = 0.05 * scale
@@ -56,7 +58,7 @@ def cantilever(L, EA, EI, P=(0.0, 0.0), M=0.0, steps=20):
             if grow > 20:
                 raise RuntimeError("no bracket for m(0)")
         m0 = brentq(miss, lo, hi, xtol=1e-15 * scale, rtol=1e-15, maxiter=200)
-    sol = _integrate(m0, L, EA, EI, P)
+    sol = _integrate(m0, L, EA, EI, P, GA)
     x, y, th, _ = sol.y[:, -1]
     return float(x), float(y), float(th)
 

@@ -136,7 +136,7 @@ namespace wirefem::scene
       d.declare("Set-up", "injection", Patterns::Selection("injection|cantilever"),
                 "'injection': the wire pushed into the cavity (the paper). 'cantilever': a benchmark of "
                 "validation/, a straight rod clamped at the origin and loaded at its free end "
-                "(Cantilever subsection); discrete model only so far.");
+                "(Cantilever subsection).");
       d.declare("Cantilever/Length", "20", any_double, "Rod length L (d), along +x from the clamp.");
       d.declare("Cantilever/End force x", "0", any_double, "Dead force on the free end, x (force).");
       d.declare("Cantilever/End force y", "0", any_double, "Dead force on the free end, y (force).");
@@ -433,14 +433,21 @@ namespace wirefem::scene
       if (s.setup == Setup::cantilever)
         {
           const auto &cl = s.cantilever;
-          check(s.model == ModelType::discrete, w, "Set-up",
-                "'cantilever' is available with Model = discrete only (not yet with the FEM)");
           check(cl.length > 0, w, "Cantilever/Length", "must be positive");
-          check(ds.segment_length > 0 && ds.segment_length <= 0.5 * cl.length, w, "Discrete/Segment length",
-                "must be in (0, L/2]");
-          const double n = cl.length / ds.segment_length;
-          check(std::abs(n - std::round(n)) < 1e-9 * n, w, "Discrete/Segment length",
-                "L / lambda_0 = " + std::to_string(n) + " must be a whole number of segments");
+          if (s.model == ModelType::discrete)
+            {
+              check(ds.segment_length > 0 && ds.segment_length <= 0.5 * cl.length, w, "Discrete/Segment length",
+                    "must be in (0, L/2]");
+              const double n = cl.length / ds.segment_length;
+              check(std::abs(n - std::round(n)) < 1e-9 * n, w, "Discrete/Segment length",
+                    "L / lambda_0 = " + std::to_string(n) + " must be a whole number of segments");
+            }
+          else
+            {
+              const double ne = cl.length / s.fem.element_length;
+              check(s.fem.element_length > 0 && std::abs(ne - std::round(ne)) < 1e-9 * ne && ne >= 1, w,
+                    "FEM/Element length", "L / h = " + std::to_string(ne) + " must be a whole number of elements");
+            }
           check(cl.load_time >= 0, w, "Cantilever/Load time", "must not be negative");
           check(cl.damping >= 0, w, "Cantilever/Damping", "must not be negative");
           check(cl.tolerance > 0, w, "Cantilever/Tolerance", "must be positive");
@@ -462,8 +469,9 @@ namespace wirefem::scene
       check(ds.axial_damping >= 0, w, "Discrete/Axial damping", "must not be negative");
       check(ds.rotational_damping >= 0, w, "Discrete/Rotational damping", "must not be negative");
       const auto &fe = s.fem;
-      check(fe.element_length > 0 && fe.element_length <= 0.25 * s.cavity.radius, w, "FEM/Element length",
-            "must be in (0, r/4]");
+      if (s.setup == Setup::injection)
+        check(fe.element_length > 0 && fe.element_length <= 0.25 * s.cavity.radius, w, "FEM/Element length",
+              "must be in (0, r/4]");
       check(fe.shear_stiffness > 0, w, "FEM/Shear stiffness", "must be positive");
       check(fe.kirchhoff_penalty > 0, w, "FEM/Kirchhoff penalty", "must be positive");
       check(fe.spectral_radius >= 0 && fe.spectral_radius <= 1, w, "FEM/Spectral radius", "must be in [0, 1]");

@@ -1,4 +1,5 @@
 #include <wirefem/discrete/terms.h>
+#include <wirefem/fem/cantilever.h>
 #include <wirefem/simulation/cantilever.h>
 
 #include <fmt/format.h>
@@ -16,9 +17,21 @@ namespace wirefem::simulation
 {
   using geometry::Vec2;
 
-  CantileverResult run_cantilever(const scene::Scene &scene)
+  namespace
   {
-    const auto wall_start = std::chrono::steady_clock::now();
+    /// What either model hands to the output.
+    struct Relaxed
+    {
+      CantileverResult result;
+      std::vector<double> S, x, y;
+      std::vector<std::string> effects;
+      std::string description;
+      nlohmann::json extra; ///< model-specific summary fields
+      double bending = 0.0, stretching = 0.0, shear = 0.0;
+    };
+
+    Relaxed relax_discrete(const scene::Scene &scene)
+    {
     const auto &cl = scene.cantilever;
     const auto &w = scene.wire;
     const double L = cl.length;
@@ -68,15 +81,9 @@ namespace wirefem::simulation
     const double scale = w.bending_stiffness / (L * L) + std::hypot(cl.end_force_x, cl.end_force_y) +
                          std::abs(cl.end_moment) / L;
 
-    const std::filesystem::path dir(scene.output.directory);
-    std::filesystem::create_directories(dir);
-    std::cout << fmt::format("wirefem: scene {} (cantilever, discrete model), L = {}, {} segments, dt = {:.4g}, "
-                             "drag gamma = {:.4g}\n",
-                             scene.name, L, n, dt, gamma)
-              << "active effects: stretching, bending" << (plastic ? ", plasticity" : "") << ", end load\n"
-              << "output: " << dir.string() << std::endl;
-
-    CantileverResult result;
+    Relaxed out;
+    out.description = fmt::format("{} segments, dt = {:.4g}, drag gamma = {:.4g}", n, dt, gamma);
+    CantileverResult &result = out.result;
     double t = 0.0;
     discrete::StepEnergy e;
     const double a = 0.5 * gamma * dt;
@@ -113,20 +120,74 @@ namespace wirefem::simulation
     result.tip_x = c.x[n].x;
     result.tip_y = c.x[n].y;
     result.tip_rotation = load->end_angle(c) + (n >= 2 ? 0.5 * discrete::BendingTerm::turning_angle(c, n - 1) : 0.0);
+    for (int k = 0; k <= n; ++k)
+      {
+        out.S.push_back(k * l0);
+        out.x.push_back(c.x[k].x);
+        out.y.push_back(c.x[k].y);
+      }
+    out.effects = effects;
+    out.bending = e.bending;
+    out.stretching = e.stretching;
+    out.extra = {{"segments", n}, {"segment_length", l0}, {"steps", result.steps}, {"time", t},
+                 {"time_step", dt}, {"damping", gamma}};
+    return out;
+    }
+
+    Relaxed solve_fem(const scene::Scene &scene)
+    {
+      const auto sol = fem::solve_cantilever(scene);
+      Relaxed out;
+      out.result.converged = sol.converged;
+      out.result.residual = sol.residual;
+      out.result.steps = sol.iterations;
+      out.result.tip_x = sol.x.back();
+      out.result.tip_y = sol.y.back();
+      out.result.tip_rotation = sol.theta.back(); // the section angle at the free end
+      out.S = sol.S;
+      out.x = sol.x;
+      out.y = sol.y;
+      out.effects = sol.effects;
+      out.description = sol.description;
+      out.bending = sol.bending;
+      out.stretching = sol.stretching;
+      out.shear = sol.shear;
+      out.extra = {{"elements", static_cast<long>(std::lround(scene.cantilever.length / scene.fem.element_length))},
+                   {"element_length", scene.fem.element_length}, {"degree", scene.fem.degree},
+                   {"formulation", scene.fem.formulation == scene::Formulation::kirchhoff ? "kirchhoff" : "reissner"},
+                   {"load_increments", sol.increments}, {"newton_iterations", sol.iterations}};
+      return out;
+    }
+  } // namespace
+
+  CantileverResult run_cantilever(const scene::Scene &scene)
+  {
+    const auto wall_start = std::chrono::steady_clock::now();
+    const auto &cl = scene.cantilever;
+    const bool fem = scene.model == scene::ModelType::fem;
+    const std::filesystem::path dir(scene.output.directory);
+    std::filesystem::create_directories(dir);
+    std::cout << fmt::format("wirefem: scene {} (cantilever, {} model), L = {}\n", scene.name,
+                             fem ? "fem" : "discrete", cl.length)
+              << "output: " << dir.string() << std::endl;
+    Relaxed r = fem ? solve_fem(scene) : relax_discrete(scene);
+    CantileverResult &result = r.result;
     result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    std::cout << r.description << "\nactive effects: ";
+    for (std::size_t i = 0; i < r.effects.size(); ++i)
+      std::cout << (i ? ", " : "") << r.effects[i];
+    std::cout << std::endl;
 
     {
       std::ofstream shape(dir / "shape.csv");
       shape << "s,x,y\n";
-      for (int k = 0; k <= n; ++k)
-        shape << fmt::format("{:.17g},{:.17g},{:.17g}\n", k * l0, c.x[k].x, c.x[k].y);
+      for (std::size_t k = 0; k < r.S.size(); ++k)
+        shape << fmt::format("{:.17g},{:.17g},{:.17g}\n", r.S[k], r.x[k], r.y[k]);
     }
-    nlohmann::json j;
+    nlohmann::json j = r.extra;
     j["setup"] = "cantilever";
-    j["model"] = "discrete";
-    j["length"] = L;
-    j["segments"] = n;
-    j["segment_length"] = l0;
+    j["model"] = fem ? "fem" : "discrete";
+    j["length"] = cl.length;
     j["end_force"] = {cl.end_force_x, cl.end_force_y};
     j["end_moment"] = cl.end_moment;
     j["tip_x"] = result.tip_x;
@@ -134,22 +195,22 @@ namespace wirefem::simulation
     j["tip_rotation"] = result.tip_rotation;
     j["residual"] = result.residual;
     j["converged"] = result.converged;
-    j["steps"] = result.steps;
-    j["time"] = t;
-    j["time_step"] = dt;
-    j["damping"] = gamma;
     j["wall_time_s"] = result.wall_time_s;
-    j["active_effects"] = effects;
-    j["energy"] = {{"bending", e.bending}, {"stretching", e.stretching}, {"load_potential", load->potential(c)}};
+    j["active_effects"] = r.effects;
+    j["energy"] = {{"bending", r.bending}, {"stretching", r.stretching}, {"shear", r.shear}};
     const auto tmp = dir / "summary.json.tmp";
     std::ofstream(tmp.string()) << j.dump(2) << '\n';
     std::filesystem::rename(tmp, dir / "summary.json");
 
     if (result.converged)
-      std::cout << fmt::format("finished: equilibrium (residual {:.2e}) after {} steps, t = {:.6g}, {:.2f} s\n"
+      std::cout << fmt::format("finished: equilibrium (residual {:.2e}) after {} {}, {:.2f} s\n"
                                "tip = ({:.12g}, {:.12g}), tip rotation = {:.12g}\n",
-                               result.residual, result.steps, t, result.wall_time_s, result.tip_x, result.tip_y,
-                               result.tip_rotation);
+                               result.residual, result.steps, fem ? "Newton iterations" : "steps",
+                               result.wall_time_s, result.tip_x, result.tip_y, result.tip_rotation);
+    else if (fem)
+      std::cerr << fmt::format("wirefem: error: Newton did not reach Cantilever/Tolerance = {:g} even with the "
+                               "load increment halved 12 times: residual {:.3e}\n",
+                               cl.tolerance, result.residual);
     else
       std::cerr << fmt::format("wirefem: error: no equilibrium by Cantilever/Maximum time = {:g}: residual "
                                "{:.3e} > Cantilever/Tolerance = {:g}{}\n",

@@ -1,0 +1,26 @@
+// Set-up = cantilever with the rod FEM: the rod clamped at the origin (x, y
+// and the section angle held) and loaded at its free end, solved statically
+// by Newton's method with load increments.
+#pragma once
+
+#include <wirefem/scene/parameters.h>
+
+#include <string>
+#include <vector>
+
+namespace wirefem::fem
+{
+  struct CantileverSolution
+  {
+    bool converged = false;
+    std::vector<double> S, x, y, theta; ///< per node, in arc-length order
+    double residual = 0.0;              ///< largest free residual / force scale
+    unsigned int increments = 0;        ///< load increments taken
+    unsigned long iterations = 0;       ///< Newton iterations in all
+    std::string description;            ///< elements, degree, formulation
+    std::vector<std::string> effects;
+    double stretching = 0.0, shear = 0.0, bending = 0.0;
+  };
+
+  CantileverSolution solve_cantilever(const scene::Scene &scene);
+} // namespace wirefem::fem

@@ -1,0 +1,178 @@
+#include <wirefem/fem/cantilever.h>
+#include <wirefem/fem/rod_element.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparse_direct.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/vector.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace wirefem::fem
+{
+  CantileverSolution solve_cantilever(const scene::Scene &s)
+  {
+    const auto &cl = s.cantilever;
+    const auto &w = s.wire;
+    const unsigned int p = s.fem.degree;
+    const unsigned int n_cells = static_cast<unsigned int>(std::lround(cl.length / s.fem.element_length));
+    const double h = cl.length / n_cells;
+    const unsigned int n_nodes = n_cells * p + 1;
+    const unsigned int n_dofs = 3 * n_nodes;
+
+    // Node numbering along the rod: element c owns vertices c p and (c+1) p
+    // and the interior nodes in between (local order: vertices first).
+    auto global_node = [p](unsigned int c, unsigned int a) { return a == 0 ? c * p : a == 1 ? (c + 1) * p : c * p + a - 1; };
+    const auto shape = ElementShape::lagrange(p, h, p); // reduced integration, as the injection runs
+
+    SectionProperties section;
+    section.EA = w.axial_stiffness;
+    section.GA = s.fem.formulation == scene::Formulation::kirchhoff ? s.fem.kirchhoff_penalty * w.axial_stiffness
+                                                                    : s.fem.shear_stiffness;
+    const auto &pl = w.plasticity;
+    const bool plastic = pl.enabled && (s.keep_neutral_effects ||
+                                        (pl.yield_curvature * s.discrete.segment_length < M_PI && pl.hardening_slope < 1.0));
+    const auto law = plastic ? material::MomentCurvatureLaw(w.bending_stiffness, pl.yield_curvature,
+                                                            pl.hardening_slope, pl.hardening)
+                             : material::MomentCurvatureLaw(w.bending_stiffness);
+
+    CantileverSolution out;
+    out.effects = {"stretching", s.fem.formulation == scene::Formulation::kirchhoff ? "shear constraint" : "shear",
+                   "bending"};
+    if (plastic)
+      out.effects.push_back("plasticity");
+    out.effects.push_back("end load");
+    out.description = fmt::format("{} elements of degree {} ({}), h = {:g}", n_cells, p,
+                                  s.fem.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner", h);
+
+    std::vector<double> S(n_nodes);
+    for (unsigned int c = 0; c < n_cells; ++c)
+      for (unsigned int a = 0; a <= p; ++a)
+        S[global_node(c, a)] = (c + shape.node_position[a]) * h;
+    dealii::Vector<double> u(n_dofs);
+    for (unsigned int k = 0; k < n_nodes; ++k)
+      u[3 * k] = S[k];
+
+    dealii::DynamicSparsityPattern dsp(n_dofs, n_dofs);
+    const unsigned int nd = 3 * (p + 1);
+    std::vector<unsigned int> local(nd);
+    auto local_dofs = [&](unsigned int c) {
+      for (unsigned int a = 0; a <= p; ++a)
+        for (unsigned int comp = 0; comp < 3; ++comp)
+          local[3 * a + comp] = 3 * global_node(c, a) + comp;
+    };
+    for (unsigned int c = 0; c < n_cells; ++c)
+      {
+        local_dofs(c);
+        for (const auto i : local)
+          for (const auto j : local)
+            dsp.add(i, j);
+      }
+    dealii::SparsityPattern sparsity;
+    sparsity.copy_from(dsp);
+    dealii::SparseMatrix<double> K(sparsity);
+    dealii::Vector<double> R(n_dofs), du(n_dofs);
+
+    std::vector<PointState> state(n_cells * shape.n_q), trial(state);
+    ElementResult er;
+    std::vector<double> ue(nd);
+    const unsigned int tip = n_nodes - 1;
+    const double scale = w.bending_stiffness / (cl.length * cl.length) + std::hypot(cl.end_force_x, cl.end_force_y) +
+                         std::abs(cl.end_moment) / cl.length;
+
+    // R = internal force - factor * end load, with the clamp's rows removed;
+    // K its Jacobian (or only R when want_tangent is false).
+    auto assemble = [&](const double factor, const bool want_tangent) {
+      R = 0.0;
+      if (want_tangent)
+        K = 0.0;
+      out.stretching = out.shear = out.bending = 0.0;
+      for (unsigned int c = 0; c < n_cells; ++c)
+        {
+          local_dofs(c);
+          for (unsigned int i = 0; i < nd; ++i)
+            ue[i] = u[local[i]];
+          evaluate_rod_element(shape, section, law, ue.data(), &state[c * shape.n_q], 0.0, want_tangent, er);
+          std::copy(er.state.begin(), er.state.end(), trial.begin() + c * shape.n_q);
+          out.stretching += er.axial_energy;
+          out.shear += er.shear_energy;
+          out.bending += er.bending_energy;
+          for (unsigned int i = 0; i < nd; ++i)
+            {
+              R[local[i]] += er.residual[i];
+              if (want_tangent)
+                for (unsigned int j = 0; j < nd; ++j)
+                  K.add(local[i], local[j], er.tangent[i * nd + j]);
+            }
+        }
+      R[3 * tip] -= factor * cl.end_force_x;
+      R[3 * tip + 1] -= factor * cl.end_force_y;
+      R[3 * tip + 2] -= factor * cl.end_moment; // a moment on the section angle: conservative in the plane
+      for (unsigned int i = 0; i < 3; ++i)
+        {
+          R[i] = 0.0;
+          if (want_tangent)
+            {
+              for (auto it = K.begin(i); it != K.end(i); ++it)
+                it->value() = (it->column() == i) ? 1.0 : 0.0;
+              for (unsigned int j = 3; j < nd && j < n_dofs; ++j)
+                K.set(j, i, 0.0);
+            }
+        }
+      return R.linfty_norm() / scale;
+    };
+
+    // Load increments: 10 to start; an increment whose Newton iteration
+    // fails is halved (at most 12 times).
+    double factor = 0.0, increment = 0.1;
+    int cuts = 0;
+    const double tol = cl.tolerance;
+    while (factor < 1.0)
+      {
+        const double target = std::min(1.0, factor + increment);
+        const dealii::Vector<double> u_start = u;
+        bool ok = false;
+        for (unsigned int it = 0; it < s.fem.maximum_iterations + 10; ++it)
+          {
+            const double r = assemble(target, true);
+            out.residual = r;
+            if (!std::isfinite(r))
+              break;
+            if (r < tol)
+              {
+                ok = true;
+                break;
+              }
+            dealii::SparseDirectUMFPACK solver;
+            solver.initialize(K);
+            solver.vmult(du, R);
+            u -= du;
+            ++out.iterations;
+          }
+        if (!ok)
+          {
+            u = u_start;
+            increment *= 0.5;
+            if (++cuts > 12)
+              break;
+            continue;
+          }
+        state = trial;
+        factor = target;
+        ++out.increments;
+      }
+    out.converged = factor >= 1.0;
+    out.S = S;
+    for (unsigned int k = 0; k < n_nodes; ++k)
+      {
+        out.x.push_back(u[3 * k]);
+        out.y.push_back(u[3 * k + 1]);
+        out.theta.push_back(u[3 * k + 2]);
+      }
+    return out;
+  }
+} // namespace wirefem::fem
