@@ -149,10 +149,9 @@ namespace
     // clamp's half-length spring by zeta/2, no segment stretches. The free
     // end is then sum_i lambda_0 (cos, sin)((i + 1/2) zeta) in closed form.
     const double L = 10.0, l0 = 1.0, EI = 60.0, M = 0.5 * M_PI * EI / L;
-    auto s = scene::read_scene("", {"Set-up=cantilever", "Cantilever/Length=10", "Cantilever/End moment=" +
-                                                                                    std::to_string(M),
-                                    "Cantilever/Load time=20", "Cantilever/Tolerance=1e-10",
-                                    "Wire/Plasticity/Enabled=false"});
+    auto s = scene::read_scene("", {"Set-up=cantilever", "Cantilever/Length=10",
+                                    "Cantilever/End moment=" + std::to_string(M), "Cantilever/Load time=20",
+                                    "Cantilever/Tolerance=1e-10", "Wire/Plasticity/Enabled=false"});
     s.output.directory = testing::TempDir() + "wirefem_cantilever_moment";
     const auto r = simulation::run_cantilever(s);
     ASSERT_TRUE(r.converged);

@@ -56,8 +56,13 @@ endforeach()
 # A coarse cantilever (10 segments) relaxes to equilibrium through the executable.
 add_test(NAME scene.cantilever_runs
          COMMAND ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/validation/cantilever/tip_load.prm
-                 --set Discrete/Segment length=2 --set Output/Directory=${SCENE_OUT}/cantilever)
+                 "--set=Discrete/Segment length=2" --set Output/Directory=${SCENE_OUT}/cantilever)
 set_tests_properties(scene.cantilever_runs PROPERTIES LABELS regression
+                     PASS_REGULAR_EXPRESSION "finished: equilibrium")
+add_test(NAME scene.cantilever_fem_runs
+         COMMAND ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/validation/cantilever/tip_load.prm --set Model=fem
+                 "--set=FEM/Element length=5" --set Output/Directory=${SCENE_OUT}/cantilever_fem)
+set_tests_properties(scene.cantilever_fem_runs PROPERTIES LABELS regression
                      PASS_REGULAR_EXPRESSION "finished: equilibrium")
 
 # Validation studies (ctest -L validation; validation/README.md). Debian's

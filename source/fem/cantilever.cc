@@ -26,28 +26,34 @@ namespace wirefem::fem
 
     // Node numbering along the rod: element c owns vertices c p and (c+1) p
     // and the interior nodes in between (local order: vertices first).
-    auto global_node = [p](unsigned int c, unsigned int a) { return a == 0 ? c * p : a == 1 ? (c + 1) * p : c * p + a - 1; };
+    auto global_node = [p](unsigned int c, unsigned int a) {
+      return a == 0 ? c * p : a == 1 ? (c + 1) * p : c * p + a - 1;
+    };
     const auto shape = ElementShape::lagrange(p, h, p); // reduced integration, as the injection runs
 
     SectionProperties section;
     section.EA = w.axial_stiffness;
-    section.GA = s.fem.formulation == scene::Formulation::kirchhoff ? s.fem.kirchhoff_penalty * w.axial_stiffness
-                                                                    : s.fem.shear_stiffness;
+    section.GA = s.fem.formulation == scene::Formulation::kirchhoff
+                     ? s.fem.kirchhoff_penalty * w.axial_stiffness
+                     : s.fem.shear_stiffness;
     const auto &pl = w.plasticity;
-    const bool plastic = pl.enabled && (s.keep_neutral_effects ||
-                                        (pl.yield_curvature * s.discrete.segment_length < M_PI && pl.hardening_slope < 1.0));
+    const bool plastic =
+        pl.enabled && (s.keep_neutral_effects ||
+                       (pl.yield_curvature * s.discrete.segment_length < M_PI && pl.hardening_slope < 1.0));
     const auto law = plastic ? material::MomentCurvatureLaw(w.bending_stiffness, pl.yield_curvature,
                                                             pl.hardening_slope, pl.hardening)
                              : material::MomentCurvatureLaw(w.bending_stiffness);
 
     CantileverSolution out;
-    out.effects = {"stretching", s.fem.formulation == scene::Formulation::kirchhoff ? "shear constraint" : "shear",
+    out.effects = {"stretching",
+                   s.fem.formulation == scene::Formulation::kirchhoff ? "shear constraint" : "shear",
                    "bending"};
     if (plastic)
       out.effects.push_back("plasticity");
     out.effects.push_back("end load");
-    out.description = fmt::format("{} elements of degree {} ({}), h = {:g}", n_cells, p,
-                                  s.fem.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner", h);
+    out.description =
+        fmt::format("{} elements of degree {} ({}), h = {:g}", n_cells, p,
+                    s.fem.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner", h);
 
     std::vector<double> S(n_nodes);
     for (unsigned int c = 0; c < n_cells; ++c)
@@ -81,8 +87,8 @@ namespace wirefem::fem
     ElementResult er;
     std::vector<double> ue(nd);
     const unsigned int tip = n_nodes - 1;
-    const double scale = w.bending_stiffness / (cl.length * cl.length) + std::hypot(cl.end_force_x, cl.end_force_y) +
-                         std::abs(cl.end_moment) / cl.length;
+    const double scale = w.bending_stiffness / (cl.length * cl.length) +
+                         std::hypot(cl.end_force_x, cl.end_force_y) + std::abs(cl.end_moment) / cl.length;
 
     // R = internal force - factor * end load, with the clamp's rows removed;
     // K its Jacobian (or only R when want_tangent is false).

@@ -364,7 +364,8 @@ namespace wirefem::scene
       ds.rotational_damping = d.get_double("Discrete/Rotational damping");
       ds.axial_damping = d.get_double("Discrete/Axial damping");
       auto &fe = s.fem;
-      fe.formulation = d.get("FEM/Formulation") == "kirchhoff" ? Formulation::kirchhoff : Formulation::reissner;
+      fe.formulation =
+          d.get("FEM/Formulation") == "kirchhoff" ? Formulation::kirchhoff : Formulation::reissner;
       fe.degree = static_cast<unsigned int>(std::stoul(d.get("FEM/Degree")));
       fe.element_length = d.get_double("FEM/Element length");
       fe.shear_stiffness = d.get_double("FEM/Shear stiffness");
@@ -436,8 +437,8 @@ namespace wirefem::scene
           check(cl.length > 0, w, "Cantilever/Length", "must be positive");
           if (s.model == ModelType::discrete)
             {
-              check(ds.segment_length > 0 && ds.segment_length <= 0.5 * cl.length, w, "Discrete/Segment length",
-                    "must be in (0, L/2]");
+              check(ds.segment_length > 0 && ds.segment_length <= 0.5 * cl.length, w,
+                    "Discrete/Segment length", "must be in (0, L/2]");
               const double n = cl.length / ds.segment_length;
               check(std::abs(n - std::round(n)) < 1e-9 * n, w, "Discrete/Segment length",
                     "L / lambda_0 = " + std::to_string(n) + " must be a whole number of segments");
@@ -446,7 +447,8 @@ namespace wirefem::scene
             {
               const double ne = cl.length / s.fem.element_length;
               check(s.fem.element_length > 0 && std::abs(ne - std::round(ne)) < 1e-9 * ne && ne >= 1, w,
-                    "FEM/Element length", "L / h = " + std::to_string(ne) + " must be a whole number of elements");
+                    "FEM/Element length",
+                    "L / h = " + std::to_string(ne) + " must be a whole number of elements");
             }
           check(cl.load_time >= 0, w, "Cantilever/Load time", "must not be negative");
           check(cl.damping >= 0, w, "Cantilever/Damping", "must not be negative");
@@ -474,7 +476,8 @@ namespace wirefem::scene
               "must be in (0, r/4]");
       check(fe.shear_stiffness > 0, w, "FEM/Shear stiffness", "must be positive");
       check(fe.kirchhoff_penalty > 0, w, "FEM/Kirchhoff penalty", "must be positive");
-      check(fe.spectral_radius >= 0 && fe.spectral_radius <= 1, w, "FEM/Spectral radius", "must be in [0, 1]");
+      check(fe.spectral_radius >= 0 && fe.spectral_radius <= 1, w, "FEM/Spectral radius",
+            "must be in [0, 1]");
       check(fe.time_step >= 0, w, "FEM/Time step", "must not be negative");
       check(fe.minimum_time_step > 0, w, "FEM/Minimum time step", "must be positive");
       check(fe.newton_tolerance > 0, w, "FEM/Newton tolerance", "must be positive");

@@ -32,106 +32,110 @@ namespace wirefem::simulation
 
     Relaxed relax_discrete(const scene::Scene &scene)
     {
-    const auto &cl = scene.cantilever;
-    const auto &w = scene.wire;
-    const double L = cl.length;
-    const double l0 = scene.discrete.segment_length;
-    const int n = static_cast<int>(std::lround(L / l0));
-    const double k1 = w.axial_stiffness / l0;
-    const double k2 = w.bending_stiffness / l0;
-    const double mass = w.mass_per_length * l0;
+      const auto &cl = scene.cantilever;
+      const auto &w = scene.wire;
+      const double L = cl.length;
+      const double l0 = scene.discrete.segment_length;
+      const int n = static_cast<int>(std::lround(L / l0));
+      const double k1 = w.axial_stiffness / l0;
+      const double k2 = w.bending_stiffness / l0;
+      const double mass = w.mass_per_length * l0;
 
-    discrete::Chain c(n + 1);
-    c.lambda0 = l0;
-    c.node_mass = mass;
-    c.first = 0;
-    c.last = n + 1;
-    c.n_prescribed = 1;
-    for (int k = 0; k <= n; ++k)
-      c.x[k] = {k * l0, 0.0};
+      discrete::Chain c(n + 1);
+      c.lambda0 = l0;
+      c.node_mass = mass;
+      c.first = 0;
+      c.last = n + 1;
+      c.n_prescribed = 1;
+      for (int k = 0; k <= n; ++k)
+        c.x[k] = {k * l0, 0.0};
 
-    // The same choice of law as the injection scenes (discrete/chain_model.cc).
-    const auto &pl = w.plasticity;
-    const double alpha = scene.yield_angle();
-    const bool plastic = pl.enabled && (scene.keep_neutral_effects || (alpha < M_PI && pl.hardening_slope < 1.0));
-    const auto law = plastic ? material::MomentCurvatureLaw(k2, alpha, pl.hardening_slope, pl.hardening)
-                             : material::MomentCurvatureLaw(k2);
-    const auto clamp_law = plastic
-                               ? material::MomentCurvatureLaw(2.0 * k2, 0.5 * alpha, pl.hardening_slope, pl.hardening)
-                               : material::MomentCurvatureLaw(2.0 * k2);
-    std::vector<std::unique_ptr<discrete::Term>> terms;
-    terms.push_back(std::make_unique<discrete::StretchingTerm>(k1));
-    terms.push_back(std::make_unique<discrete::BendingTerm>(law, 0.0, n + 1));
-    terms.push_back(std::make_unique<discrete::ClampTerm>(clamp_law, Vec2{1.0, 0.0}));
-    auto end_load = std::make_unique<discrete::EndLoadTerm>(Vec2{cl.end_force_x, cl.end_force_y}, cl.end_moment);
-    auto *load = end_load.get();
-    terms.push_back(std::move(end_load));
-    std::vector<std::string> effects{"stretching", "bending"};
-    if (plastic)
-      effects.push_back("plasticity");
-    effects.push_back("end load");
+      // The same choice of law as the injection scenes (discrete/chain_model.cc).
+      const auto &pl = w.plasticity;
+      const double alpha = scene.yield_angle();
+      const bool plastic =
+          pl.enabled && (scene.keep_neutral_effects || (alpha < M_PI && pl.hardening_slope < 1.0));
+      const auto law = plastic ? material::MomentCurvatureLaw(k2, alpha, pl.hardening_slope, pl.hardening)
+                               : material::MomentCurvatureLaw(k2);
+      const auto clamp_law =
+          plastic ? material::MomentCurvatureLaw(2.0 * k2, 0.5 * alpha, pl.hardening_slope, pl.hardening)
+                  : material::MomentCurvatureLaw(2.0 * k2);
+      std::vector<std::unique_ptr<discrete::Term>> terms;
+      terms.push_back(std::make_unique<discrete::StretchingTerm>(k1));
+      terms.push_back(std::make_unique<discrete::BendingTerm>(law, 0.0, n + 1));
+      terms.push_back(std::make_unique<discrete::ClampTerm>(clamp_law, Vec2{1.0, 0.0}));
+      auto end_load =
+          std::make_unique<discrete::EndLoadTerm>(Vec2{cl.end_force_x, cl.end_force_y}, cl.end_moment);
+      auto *load = end_load.get();
+      terms.push_back(std::move(end_load));
+      std::vector<std::string> effects{"stretching", "bending"};
+      if (plastic)
+        effects.push_back("plasticity");
+      effects.push_back("end load");
 
-    // Explicit stability as in the injection scenes; the drag is mass
-    // proportional, so every mode decays at gamma/2 (the first critically).
-    const double omega2 = 4.0 * k1 / mass + 16.0 * k2 / (mass * l0 * l0);
-    const double dt = scene.discrete.time_step > 0.0 ? scene.discrete.time_step
-                                                     : scene.discrete.time_step_factor * 2.0 / std::sqrt(omega2);
-    const double omega1 = 3.5160 * std::sqrt(w.bending_stiffness / (w.mass_per_length * L * L * L * L));
-    const double gamma = cl.damping > 0.0 ? cl.damping : 2.0 * omega1;
-    const double scale = w.bending_stiffness / (L * L) + std::hypot(cl.end_force_x, cl.end_force_y) +
-                         std::abs(cl.end_moment) / L;
+      // Explicit stability as in the injection scenes; the drag is mass
+      // proportional, so every mode decays at gamma/2 (the first critically).
+      const double omega2 = 4.0 * k1 / mass + 16.0 * k2 / (mass * l0 * l0);
+      const double dt = scene.discrete.time_step > 0.0
+                            ? scene.discrete.time_step
+                            : scene.discrete.time_step_factor * 2.0 / std::sqrt(omega2);
+      const double omega1 = 3.5160 * std::sqrt(w.bending_stiffness / (w.mass_per_length * L * L * L * L));
+      const double gamma = cl.damping > 0.0 ? cl.damping : 2.0 * omega1;
+      const double scale = w.bending_stiffness / (L * L) + std::hypot(cl.end_force_x, cl.end_force_y) +
+                           std::abs(cl.end_moment) / L;
 
-    Relaxed out;
-    out.description = fmt::format("{} segments, dt = {:.4g}, drag gamma = {:.4g}", n, dt, gamma);
-    CantileverResult &result = out.result;
-    double t = 0.0;
-    discrete::StepEnergy e;
-    const double a = 0.5 * gamma * dt;
-    while (true)
-      {
-        load->set_load_factor(cl.load_time > 0.0 ? std::min(1.0, t / cl.load_time) : 1.0);
-        std::fill(c.f.begin(), c.f.end(), Vec2{});
-        e = discrete::StepEnergy{};
-        for (auto &term : terms)
-          term->add_forces(c, dt, e);
-        double fmax = 0.0;
-        for (int k = 1; k <= n; ++k)
-          fmax = std::max(fmax, norm(c.f[k]));
-        result.residual = fmax / scale;
-        if (t >= cl.load_time && result.residual < cl.tolerance)
-          {
-            result.converged = true;
+      Relaxed out;
+      out.description = fmt::format("{} segments, dt = {:.4g}, drag gamma = {:.4g}", n, dt, gamma);
+      CantileverResult &result = out.result;
+      double t = 0.0;
+      discrete::StepEnergy e;
+      const double a = 0.5 * gamma * dt;
+      while (true)
+        {
+          load->set_load_factor(cl.load_time > 0.0 ? std::min(1.0, t / cl.load_time) : 1.0);
+          std::fill(c.f.begin(), c.f.end(), Vec2{});
+          e = discrete::StepEnergy{};
+          for (auto &term : terms)
+            term->add_forces(c, dt, e);
+          double fmax = 0.0;
+          for (int k = 1; k <= n; ++k)
+            fmax = std::max(fmax, norm(c.f[k]));
+          result.residual = fmax / scale;
+          if (t >= cl.load_time && result.residual < cl.tolerance)
+            {
+              result.converged = true;
+              break;
+            }
+          if (t >= cl.maximum_time || !std::isfinite(fmax))
             break;
-          }
-        if (t >= cl.maximum_time || !std::isfinite(fmax))
-          break;
-        // Semi-implicit Euler with the drag taken at the step's midpoint.
-        for (int k = 1; k <= n; ++k)
-          {
-            c.v[k] = (1.0 / (1.0 + a)) * ((1.0 - a) * c.v[k] + (dt / mass) * c.f[k]);
-            c.x[k] += dt * c.v[k];
-          }
-        for (auto &term : terms)
-          term->commit();
-        t += dt;
-        ++result.steps;
-      }
+          // Semi-implicit Euler with the drag taken at the step's midpoint.
+          for (int k = 1; k <= n; ++k)
+            {
+              c.v[k] = (1.0 / (1.0 + a)) * ((1.0 - a) * c.v[k] + (dt / mass) * c.f[k]);
+              c.x[k] += dt * c.v[k];
+            }
+          for (auto &term : terms)
+            term->commit();
+          t += dt;
+          ++result.steps;
+        }
 
-    result.tip_x = c.x[n].x;
-    result.tip_y = c.x[n].y;
-    result.tip_rotation = load->end_angle(c) + (n >= 2 ? 0.5 * discrete::BendingTerm::turning_angle(c, n - 1) : 0.0);
-    for (int k = 0; k <= n; ++k)
-      {
-        out.S.push_back(k * l0);
-        out.x.push_back(c.x[k].x);
-        out.y.push_back(c.x[k].y);
-      }
-    out.effects = effects;
-    out.bending = e.bending;
-    out.stretching = e.stretching;
-    out.extra = {{"segments", n}, {"segment_length", l0}, {"steps", result.steps}, {"time", t},
-                 {"time_step", dt}, {"damping", gamma}};
-    return out;
+      result.tip_x = c.x[n].x;
+      result.tip_y = c.x[n].y;
+      result.tip_rotation =
+          load->end_angle(c) + (n >= 2 ? 0.5 * discrete::BendingTerm::turning_angle(c, n - 1) : 0.0);
+      for (int k = 0; k <= n; ++k)
+        {
+          out.S.push_back(k * l0);
+          out.x.push_back(c.x[k].x);
+          out.y.push_back(c.x[k].y);
+        }
+      out.effects = effects;
+      out.bending = e.bending;
+      out.stretching = e.stretching;
+      out.extra = {{"segments", n}, {"segment_length", l0}, {"steps", result.steps},
+                   {"time", t},     {"time_step", dt},      {"damping", gamma}};
+      return out;
     }
 
     Relaxed solve_fem(const scene::Scene &scene)
@@ -152,10 +156,13 @@ namespace wirefem::simulation
       out.bending = sol.bending;
       out.stretching = sol.stretching;
       out.shear = sol.shear;
-      out.extra = {{"elements", static_cast<long>(std::lround(scene.cantilever.length / scene.fem.element_length))},
-                   {"element_length", scene.fem.element_length}, {"degree", scene.fem.degree},
-                   {"formulation", scene.fem.formulation == scene::Formulation::kirchhoff ? "kirchhoff" : "reissner"},
-                   {"load_increments", sol.increments}, {"newton_iterations", sol.iterations}};
+      out.extra = {
+          {"elements", static_cast<long>(std::lround(scene.cantilever.length / scene.fem.element_length))},
+          {"element_length", scene.fem.element_length},
+          {"degree", scene.fem.degree},
+          {"formulation", scene.fem.formulation == scene::Formulation::kirchhoff ? "kirchhoff" : "reissner"},
+          {"load_increments", sol.increments},
+          {"newton_iterations", sol.iterations}};
       return out;
     }
   } // namespace
@@ -208,9 +215,10 @@ namespace wirefem::simulation
                                result.residual, result.steps, fem ? "Newton iterations" : "steps",
                                result.wall_time_s, result.tip_x, result.tip_y, result.tip_rotation);
     else if (fem)
-      std::cerr << fmt::format("wirefem: error: Newton did not reach Cantilever/Tolerance = {:g} even with the "
-                               "load increment halved 12 times: residual {:.3e}\n",
-                               cl.tolerance, result.residual);
+      std::cerr << fmt::format(
+          "wirefem: error: Newton did not reach Cantilever/Tolerance = {:g} even with the "
+          "load increment halved 12 times: residual {:.3e}\n",
+          cl.tolerance, result.residual);
     else
       std::cerr << fmt::format("wirefem: error: no equilibrium by Cantilever/Maximum time = {:g}: residual "
                                "{:.3e} > Cantilever/Tolerance = {:g}{}\n",

@@ -42,11 +42,11 @@ namespace wirefem::scene
     double length = 20.0;     ///< L (d)
     double end_force_x = 0.0; ///< dead end force (force)
     double end_force_y = 0.0;
-    double end_moment = 0.0;       ///< end moment (force d), + = counter-clockwise
-    double load_time = 100.0;      ///< ramp of the load (time)
-    double damping = 0.0;          ///< gamma of -gamma m v; 0: critical for the first mode
-    double tolerance = 1e-10;      ///< largest nodal force / force scale at equilibrium
-    double maximum_time = 1.0e6;   ///< give up (exit 3) when not in equilibrium by then
+    double end_moment = 0.0;     ///< end moment (force d), + = counter-clockwise
+    double load_time = 100.0;    ///< ramp of the load (time)
+    double damping = 0.0;        ///< gamma of -gamma m v; 0: critical for the first mode
+    double tolerance = 1e-10;    ///< largest nodal force / force scale at equilibrium
+    double maximum_time = 1.0e6; ///< give up (exit 3) when not in equilibrium by then
   };
 
   struct CavityParameters
@@ -128,13 +128,13 @@ namespace wirefem::scene
   struct FemParameters
   {
     Formulation formulation = Formulation::reissner;
-    unsigned int degree = 1;       ///< polynomial degree p of (x, y, theta), 1..3
-    double element_length = 1.0;   ///< rest length h of an element (d)
-    double shear_stiffness = -1.0; ///< GA (force); < 0: 0.9 EA / (2 (1 + 0.3)), a round steel wire
+    unsigned int degree = 1;           ///< polynomial degree p of (x, y, theta), 1..3
+    double element_length = 1.0;       ///< rest length h of an element (d)
+    double shear_stiffness = -1.0;     ///< GA (force); < 0: 0.9 EA / (2 (1 + 0.3)), a round steel wire
     double kirchhoff_penalty = 1000.0; ///< Kirchhoff: shear penalty GA_K = this * EA
     Integrator integrator = Integrator::generalized_alpha;
-    double spectral_radius = 0.9;   ///< rho_infinity of generalized-alpha
-    double time_step = 0.0;         ///< first (and largest) step; 0: automatic
+    double spectral_radius = 0.9; ///< rho_infinity of generalized-alpha
+    double time_step = 0.0;       ///< first (and largest) step; 0: automatic
     double minimum_time_step = 1e-7;
     double newton_tolerance = 1e-8; ///< on the residual norm relative to the force scale
     unsigned int maximum_iterations = 15;
