@@ -76,3 +76,54 @@ if __name__ == "__main__":
     for load in (1, 2, 5, 10):
         x, y, th = cantilever(1.0, 1e12, 1.0, (0.0, -load))
         print(f"PL^2/EI = {load:2d}: 1 - x/L = {1 - x:.5f}, -y/L = {-y:.5f}, rotation = {-th:.5f}")
+
+
+def buckled_cantilever(L, EA, EI, P, eps=0.0, GA=math.inf, n_scan=400):
+    """Half of a pinned-pinned rod of length 2L under the axial load P: by
+    symmetry a cantilever of length L clamped at mid-span, with the dead end
+    force (-P, eps) (eps: a transverse imperfection, as the models need to
+    leave the straight state). Shoots backwards from the free end on its
+    rotation alpha (m = 0 there) until the clamp's angle is zero; of the
+    roots, the stable branch biased by eps is the one of largest alpha with
+    the sign of eps (eps = 0: alpha > 0). Returns the free end (x, y) relative
+    to the clamp and alpha."""
+    F = (-P, eps)
+
+    def clamp_angle(alpha):
+        sol = solve_ivp(lambda s, u: _rhs(u, EA, EI, F, GA), (L, 0.0), [0.0, 0.0, alpha, 0.0], method="DOP853",
+                        rtol=1e-13, atol=1e-14)
+        return sol.y[2, -1], sol.y[:, -1]
+
+    sign = -1.0 if eps < 0 else 1.0
+    grid = [sign * math.pi * (1.0 - i / n_scan) for i in range(n_scan)]  # from +-pi towards 0
+    prev_a, prev_f = grid[0], clamp_angle(grid[0])[0]
+    for a in grid[1:]:
+        f = clamp_angle(a)[0]
+        if prev_f * f <= 0.0:
+            alpha = brentq(lambda x: clamp_angle(x)[0], min(a, prev_a), max(a, prev_a), xtol=1e-15, rtol=1e-15,
+                           maxiter=200)
+            r0 = clamp_angle(alpha)[1]
+            return float(-r0[0]), float(-r0[1]), float(alpha)
+        prev_a, prev_f = a, f
+    raise RuntimeError("no buckled solution: below the critical load?")
+
+
+def _rhs(u, EA, EI, F, GA):
+    _x, _y, th, m = u
+    px, py = F
+    c, s = math.cos(th), math.sin(th)
+    stretch = 1.0 + (px * c + py * s) / EA
+    shear = (-px * s + py * c) / GA
+    dx, dy = stretch * c - shear * s, stretch * s + shear * c
+    return [dx, dy, m / EI, -(dx * py - dy * px)]
+
+
+def elliptic_buckling(alpha):
+    """Inextensible pinned-pinned elastica of length Lp with end slope alpha
+    (k = sin(alpha/2)): P/P_cr = (2K/pi)^2, end shortening / Lp = 2 - 2E/K,
+    mid-span deflection / Lp = k/K (K, E complete elliptic integrals of
+    parameter k^2)."""
+    from scipy.special import ellipe, ellipk
+    k = math.sin(alpha / 2.0)
+    K, E = ellipk(k * k), ellipe(k * k)
+    return (2.0 * K / math.pi) ** 2, 2.0 - 2.0 * E / K, k / K

@@ -4,8 +4,8 @@
     validation/report.py RESULTS_DIR VALIDATION_DIR
 
 RESULTS_DIR holds one folder per study (build-ci/validation/<study>/ with
-results.json and its PNG figures, as `ctest -L validation` leaves them);
-the figures are copied to VALIDATION_DIR/figures/. Run through
+results.json and convergence.png, as `ctest -L validation` leaves them); the
+figures are copied to VALIDATION_DIR/figures/. Run through
 scripts/validation-report.sh.
 """
 import datetime
@@ -16,85 +16,86 @@ import subprocess
 import sys
 
 LEVELS = (1e-2, 1e-3, 1e-4)
-# The cases of the validation issue and where each stands; a study whose
-# results.json is present is reported from it.
+# The cases of the validation plan and the study that covers each.
 CASES = [
     ("1", "Cantilever rolled up by an end moment (M = pi EI/L)", "cantilever"),
     ("2", "Cantilever under a dead end load, PL^2/EI in {1, 2, 5, 10}", "cantilever"),
-    ("3", "Euler buckling and post-buckling, pinned-pinned", None),
+    ("3", "Euler buckling and post-buckling, pinned-pinned", "buckling"),
     ("4", "Elastoplastic bending cycles through the executable", None),
     ("5", "Friction: capstan law along the cavity wall", None),
     ("6", "Spiral packing force against the tight-spiral estimate", None),
-    ("7", "Mesh convergence: FEM p = 1, 2, 3 and discrete lambda_0 (on cases 1, 2)", "cantilever"),
+    ("7", "Mesh convergence: FEM p = 1, 2, 3 and discrete lambda_0 (on cases 1-3)", "cantilever"),
     ("8", "Continuum cross-check on the injection scene", None),
 ]
+TITLES = {"cantilever": "Cantilever (cases 1, 2; convergence of case 7)",
+          "buckling": "Euler buckling and post-buckling (case 3; convergence of case 7)"}
+INTRO = {
+    "cantilever": "Rod L = {length:g} d, EA = {EA:g}, EI = {EI:g}, clamped at the origin, loaded at its free "
+                  "end. Errors at the free end: position error / L and rotation error (rad).",
+    "buckling": "Pinned-pinned rod of length {length:g} d (EA = {EA:g}, EI = {EI:g}; P_cr = {P_cr:.5g}), "
+                "computed as its half: a cantilever clamped at mid-span pushed axially at the pinned end, "
+                "with a transverse imperfection of {imperfection:g} P in the models and in the reference. "
+                "Errors: end shortening / rod length, mid-span deflection / rod length, end slope (rad). "
+                "The reference is checked against the elliptic-integral solution of the inextensible "
+                "rod (P/P_cr = (2K/pi)^2, shortening 2 - 2E/K, deflection k/K) to 1e-10 before use.",
+}
+COMMON = ("Each model is compared with the elastica of its own axial (and for the FEM, Reissner, "
+          "GA = {GA_fem:.4g}, shear) compliance: validation/elastica.py, scipy DOP853 shooting. Acceptance: "
+          "at the finest discretisation every error below its tolerance ({tolerances}); the order between "
+          "the two finest discretisations within {order_slack} of 2 (discrete model, p = 1) or at least "
+          "p + 1 - {order_slack} (p = 2, 3). Errors below {floor:g} are round-off and give no order.")
 
 
-def fmt_order(rows, key):
-    vals = [r[key] for r in rows if key in r]
-    return ", ".join(f"{v:.2f}" for v in vals) if vals else "(exact)"
+def orders(rows, key):
+    vals = [f"{r['order_' + key[6:]]:.2f}" if "order_" + key[6:] in r else "-" for r in rows[1:]]
+    return ", ".join(vals) if any(v != "-" for v in vals) else "(exact or round-off)"
 
 
-def cantilever_section(res, figures):
-    out = ["## Cantilever (cases 1, 2 and the convergence of case 7)", ""]
-    out += [f"Rod L = {res['length']:g} d, EA = {res['EA']:g}, EI = {res['EI']:g}; the FEM uses the Reissner "
-            f"rod with GA = {res['GA_fem']:.4g}, and each model is compared with the elastica of its own axial "
-            "(and, for the FEM, shear) compliance (validation/elastica.py, scipy DOP853 shooting). Errors are "
-            "at the free end: position error / L and rotation error (rad). Acceptance: at the finest "
-            f"discretisation position error below {res['tolerance']['error_position']:g} and rotation error "
-            f"below {res['tolerance']['error_rotation']:g}; every measured order within "
-            f"{res['order_slack']} of 2 (discrete model, p = 1) or at least p + 1 - {res['order_slack']} "
-            "(p = 2, 3). Errors below "
-            f"{res['floor']:g} are round-off and give no order.", ""]
-    out += ["| model | case | h (finest) | position error | rotation error | orders (position) | "
-            "orders (rotation) |", "|---|---|---|---|---|---|---|"]
+def section(study, res, figures):
+    keys = [k for k in res["cases"][0]["rows"][0] if k.startswith("error_")]
+    tolerances = ", ".join(f"{k[6:]} {v:g}" for k, v in res["tolerance"].items())
+    out = [f"## {TITLES.get(study, study)}", "", INTRO.get(study, "").format(**res) + " " +
+           COMMON.format(tolerances=tolerances, **res), ""]
+    out += ["| model | case | finest h | " + " | ".join(k[6:] + " error" for k in keys) + " | " +
+            " | ".join("orders (" + k[6:] + ")" for k in keys) + " |",
+            "|---|---|---|" + "---|" * (2 * len(keys))]
     for c in res["cases"]:
         f = c["rows"][-1]
-        out.append(f"| {c['model']} | {c['case']} | {f['h']:g} | {f['error_position']:.2e} | "
-                   f"{f['error_rotation']:.2e} | {fmt_order(c['rows'], 'order_position')} | "
-                   f"{fmt_order(c['rows'], 'order_rotation')} |")
-    out += ["", "Measured order at the free end (a node), median over the load cases of the order between the "
-            "two finest discretisations:", ""]
+        out.append(f"| {c['model']} | {c['case']} | {f['h']:g} | " + " | ".join(f"{f[k]:.2e}" for k in keys) +
+                   " | " + " | ".join(orders(c["rows"], k) for k in keys) + " |")
+    out += ["", "Order between the two finest discretisations, median over the cases (" + keys[0][6:] + "):", ""]
     for model in dict.fromkeys(c["model"] for c in res["cases"]):
-        last = sorted(c["rows"][-1]["order_position"] for c in res["cases"]
-                      if c["model"] == model and "order_position" in c["rows"][-1])
+        last = sorted(c["rows"][-1]["order_" + keys[0][6:]] for c in res["cases"]
+                      if c["model"] == model and "order_" + keys[0][6:] in c["rows"][-1])
         if last:
             out.append(f"- {model}: {last[len(last) // 2]:.2f}")
-    out.append("")
-    out += ["### What accuracy costs in time", "",
-            "Cheapest discretisation (by measured wall time of the solve) whose tip position error is below "
-            "each level; '-' where none of the runs reached it. The discrete model relaxes dynamically to "
-            "equilibrium (its cost grows as lambda_0^-3); the FEM solves the statics by Newton.", "",
-            "| case | model | " + " | ".join(f"{lv:g}" for lv in LEVELS) + " |",
-            "|---|---|" + "---|" * len(LEVELS)]
+    key = keys[0]
+    out += ["", f"### What accuracy costs in time ({key[6:]})", "",
+            "Cheapest discretisation (measured wall time of the solve) whose error is below each level; "
+            "'-' where no run reached it.", "",
+            "| case | model | " + " | ".join(f"{lv:g}" for lv in LEVELS) + " |", "|---|---|" + "---|" * len(LEVELS)]
     for c in res["cases"]:
         cells = []
         for lv in LEVELS:
-            ok = [r for r in c["rows"] if r["error_position"] <= lv]
-            if ok:
-                best = min(ok, key=lambda r: r["wall_time_s"])
-                cells.append(f"h = {best['h']:g}, {best['wall_time_s'] * 1000:.0f} ms")
-            else:
-                cells.append("-")
+            ok = [r for r in c["rows"] if r[key] <= lv]
+            best = min(ok, key=lambda r: r["wall_time_s"]) if ok else None
+            cells.append(f"h = {best['h']:g}, {best['wall_time_s'] * 1000:.0f} ms" if best else "-")
         out.append(f"| {c['case']} | {c['model']} | " + " | ".join(cells) + " |")
-    out += ["", "Cheapest model per level, over all cases (the largest of its cheapest times across the "
-            "cases):", ""]
+    out += ["", "Cheapest model per level over all cases (the largest of its cheapest times across the cases):", ""]
     for lv in LEVELS:
         cost = {}
         for c in res["cases"]:
-            ok = [r["wall_time_s"] for r in c["rows"] if r["error_position"] <= lv]
-            t = min(ok) if ok else float("inf")
-            cost[c["model"]] = max(cost.get(c["model"], 0.0), t)
+            ok = [r["wall_time_s"] for r in c["rows"] if r[key] <= lv]
+            cost[c["model"]] = max(cost.get(c["model"], 0.0), min(ok) if ok else float("inf"))
         best = min(cost, key=cost.get)
         others = ", ".join(f"{m} {'-' if v == float('inf') else f'{v * 1000:.0f} ms'}" for m, v in cost.items())
         out.append(f"- {lv:g}: **{best}** ({others})")
-    out += ["", "The discrete model relaxes the statics dynamically, so its cost is that of many explicit steps; "
+    out += ["", "The discrete model reaches a static equilibrium by dynamic relaxation, many explicit steps; "
             "in the injection scenes, which are dynamic, it is the far cheaper model (README, Cost).", ""]
-    for fig in figures:
-        out.append(f"![{fig}](figures/{fig})")
+    out += [f"![{f}](figures/{f})" for f in figures]
     if res["failures"]:
         out += ["", "**Failures:**", ""] + [f"- {m}" for m in res["failures"]]
-    return out
+    return out + [""]
 
 
 def main():
@@ -106,7 +107,8 @@ def main():
     lines = ["# wirefem validation report", "",
              f"Generated {datetime.date.today().isoformat()} at commit {commit or 'unknown'} by "
              "`scripts/validation-report.sh` (runs `ctest -L validation`, then `validation/report.py`). "
-             "Wall times are single runs on a shared 2-core machine: read ratios, not absolute values.", "", "## Cases", "", "| # | case | status |", "|---|---|---|"]
+             "Wall times are single runs on a shared 2-core machine: read ratios, not absolute values.", "",
+             "## Cases", "", "| # | case | status |", "|---|---|---|"]
     studies = {}
     for name in sorted(os.listdir(results_dir)) if os.path.isdir(results_dir) else []:
         f = os.path.join(results_dir, name, "results.json")
@@ -116,22 +118,19 @@ def main():
     for num, title, study in CASES:
         if study and study in studies:
             status = "passes" if not studies[study]["failures"] else "FAILS (see below)"
-        elif study:
-            status = "not run"
         else:
-            status = "not implemented yet"
+            status = "not run" if study else "not implemented yet"
         lines.append(f"| {num} | {title} | {status} |")
     lines.append("")
-    if "cantilever" in studies:
+    for study, res in studies.items():
         figs = []
-        for png in ("convergence.png",):
-            src = os.path.join(results_dir, "cantilever", png)
-            if os.path.exists(src):
-                shutil.copy(src, os.path.join(figures_dir, "cantilever-" + png))
-                figs.append("cantilever-" + png)
-        lines += cantilever_section(studies["cantilever"], figs)
+        src = os.path.join(results_dir, study, "convergence.png")
+        if os.path.exists(src):
+            shutil.copy(src, os.path.join(figures_dir, f"{study}-convergence.png"))
+            figs.append(f"{study}-convergence.png")
+        lines += section(study, res, figs)
     with open(os.path.join(validation_dir, "REPORT.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
+        f.write("\n".join(lines))
     print(f"wrote {os.path.join(validation_dir, 'REPORT.md')}")
 
 

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace wirefem::fem
@@ -132,43 +133,111 @@ namespace wirefem::fem
       return R.linfty_norm() / scale;
     };
 
-    // Load increments: 10 to start; an increment whose Newton iteration
-    // fails is halved (at most 12 times).
+    const double tol = cl.tolerance;
+    // Newton's method at a load factor from the current u; false (u then
+    // undefined) when it does not converge.
+    auto newton = [&](const double target) {
+      for (unsigned int it = 0; it < s.fem.maximum_iterations + 10; ++it)
+        {
+          const double r = assemble(target, true);
+          out.residual = r;
+          if (!std::isfinite(r))
+            return false;
+          if (r < tol)
+            return true;
+          dealii::SparseDirectUMFPACK solver;
+          solver.initialize(K);
+          solver.vmult(du, R);
+          u -= du;
+          ++out.iterations;
+        }
+      return false;
+    };
+
+    // The eigenvalue of smallest magnitude of the tangent K (assembled at a
+    // converged state) and its mode, by inverse iteration. Past a
+    // bifurcation it is negative on the branch that load control followed
+    // through it (the straight rod above the Euler load).
+    dealii::Vector<double> mode(n_dofs), tmp(n_dofs);
+    auto lowest_eigenvalue = [&]() {
+      dealii::SparseDirectUMFPACK solver;
+      solver.initialize(K);
+      for (unsigned int i = 3; i < n_dofs; ++i)
+        mode[i] = 1.0 + 0.3 * std::sin(1.7 * i);
+      mode[0] = mode[1] = mode[2] = 0.0;
+      for (unsigned int k = 0; k < 60; ++k)
+        {
+          solver.vmult(tmp, mode);
+          tmp[0] = tmp[1] = tmp[2] = 0.0;
+          mode = tmp;
+          mode /= mode.l2_norm();
+        }
+      K.vmult(tmp, mode);
+      return (mode * tmp) / (mode * mode);
+    };
+
+    // Load increments: 0.1 to start, halved when Newton fails (at most 12
+    // times), when a section turns too far, or when a stable state would be
+    // followed by an unstable one; grown again after a success. A converged
+    // state that is still unstable at an increment of 1e-4 is left along its
+    // unstable mode, to the side of the transverse end force, and solved
+    // again. So the run follows the stable branch connected to the unloaded
+    // rod, as the dynamic relaxation of the discrete model does.
     double factor = 0.0, increment = 0.1;
     int cuts = 0;
-    const double tol = cl.tolerance;
+    bool was_stable = true;
     while (factor < 1.0)
       {
         const double target = std::min(1.0, factor + increment);
         const dealii::Vector<double> u_start = u;
-        bool ok = false;
-        for (unsigned int it = 0; it < s.fem.maximum_iterations + 10; ++it)
-          {
-            const double r = assemble(target, true);
-            out.residual = r;
-            if (!std::isfinite(r))
-              break;
-            if (r < tol)
-              {
-                ok = true;
-                break;
-              }
-            dealii::SparseDirectUMFPACK solver;
-            solver.initialize(K);
-            solver.vmult(du, R);
-            u -= du;
-            ++out.iterations;
-          }
-        if (!ok)
+        bool ok = newton(target);
+        if (ok)
+          out.lowest_eigenvalue = lowest_eigenvalue();
+        // From a stable state, an increment that lands on an unstable one has
+        // jumped branches (or passed a critical point): redo it in halves.
+        if (ok && out.lowest_eigenvalue < 0.0 && was_stable && increment > 1e-4)
           {
             u = u_start;
             increment *= 0.5;
-            if (++cuts > 12)
+            continue;
+          }
+        for (unsigned int attempt = 0; ok && out.lowest_eigenvalue < 0.0 && attempt < 4; ++attempt)
+          {
+            const double side =
+                mode[3 * tip + 1] * (cl.end_force_y != 0.0 ? cl.end_force_y : 1.0) >= 0.0 ? 1.0 : -1.0;
+            constexpr std::array<double, 4> amplitudes{{0.02, 0.1, 0.3, 0.6}};
+            const double amplitude = amplitudes[attempt] * cl.length;
+            const dealii::Vector<double> u_unstable = u;
+            u.add(side * amplitude / mode.linfty_norm(), mode);
+            ++out.unstable_states_left;
+            ok = newton(target);
+            if (!ok)
+              {
+                u = u_unstable;
+                ok = newton(target);
+                break;
+              }
+            out.lowest_eigenvalue = lowest_eigenvalue();
+          }
+        // An increment that turns a section by more than 0.25 rad is
+        // redone in halves: with large increments Newton can land on another
+        // branch of equilibria (past the Euler load, on the mirror image of
+        // the one the imperfection selects).
+        double turn = 0.0;
+        for (unsigned int k = 0; ok && k < n_nodes; ++k)
+          turn = std::max(turn, std::abs(u[3 * k + 2] - u_start[3 * k + 2]));
+        if (!ok || (turn > 0.25 && increment > 1e-4))
+          {
+            u = u_start;
+            increment *= 0.5;
+            if (!ok && ++cuts > 12)
               break;
             continue;
           }
         state = trial;
         factor = target;
+        was_stable = out.lowest_eigenvalue >= 0.0;
+        increment = std::min(0.1, 1.5 * increment);
         ++out.increments;
       }
     out.converged = factor >= 1.0;

@@ -162,7 +162,9 @@ namespace wirefem::simulation
           {"degree", scene.fem.degree},
           {"formulation", scene.fem.formulation == scene::Formulation::kirchhoff ? "kirchhoff" : "reissner"},
           {"load_increments", sol.increments},
-          {"newton_iterations", sol.iterations}};
+          {"newton_iterations", sol.iterations},
+          {"lowest_eigenvalue", sol.lowest_eigenvalue},
+          {"unstable_states_left", sol.unstable_states_left}};
       return out;
     }
   } // namespace

@@ -18,6 +18,10 @@ namespace wirefem::fem
     unsigned int increments = 0;        ///< load increments taken
     unsigned long iterations = 0;       ///< Newton iterations in all
     std::string description;            ///< elements, degree, formulation
+    /// Smallest-magnitude eigenvalue of the tangent at the end (negative:
+    /// the state is unstable) and how many unstable states were left.
+    double lowest_eigenvalue = 0.0;
+    unsigned int unstable_states_left = 0;
     std::vector<std::string> effects;
     double stretching = 0.0, shear = 0.0, bending = 0.0;
   };

@@ -1,0 +1,104 @@
+"""What the validation drivers share: running wirefem on a prm file, the
+discretisations of both models, convergence orders and their checks, the
+results file and the convergence / work-precision figure."""
+import json
+import math
+import os
+import subprocess
+
+# (model label, prm overrides, discretisation key, lengths, expected order,
+# check) for a rod of length 20: the discrete model and FEM degrees 1-3.
+# The order between the two finest discretisations must be
+# "equal": within ORDER_SLACK of the order (discrete model, p = 1);
+# "at least": the max-norm rate p + 1 less ORDER_SLACK (p >= 2; at a node 2p
+# is expected).
+DISCRETISATIONS = [
+    ("discrete", [], "Discrete/Segment length", [2.0, 1.0, 0.5, 0.25], 2.0, "equal"),
+    ("fem p=1", ["Model=fem", "FEM/Degree=1", "Cantilever/Tolerance=1e-10"], "FEM/Element length",
+     [5.0, 2.5, 1.25, 0.625, 0.3125], 2.0, "equal"),
+    ("fem p=2", ["Model=fem", "FEM/Degree=2", "Cantilever/Tolerance=1e-10"], "FEM/Element length",
+     [10.0, 5.0, 2.5, 1.25], 3.0, "at least"),
+    ("fem p=3", ["Model=fem", "FEM/Degree=3", "Cantilever/Tolerance=1e-10"], "FEM/Element length",
+     [10.0, 5.0, 2.5, 1.25], 4.0, "at least"),
+]
+ORDER_SLACK = 0.2
+# Errors below this are round-off and equilibrium tolerance, not
+# discretisation: no order is measured from them.
+FLOOR = 1e-9
+
+
+def run(wirefem, prm, sets, out):
+    cmd = [wirefem, prm, "--set", f"Output/Directory={out}"]
+    for s in sets:
+        cmd += ["--set", s]
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def add_orders(rows, keys, skip=()):
+    """order_<key> on each row from the previous one (errors above FLOOR)."""
+    for a, b in zip(rows, rows[1:]):
+        for key in keys:
+            if key in skip or min(a[key], b[key]) <= FLOOR:
+                continue
+            b["order_" + key[6:]] = math.log(a[key] / b[key]) / math.log(a["h"] / b["h"])
+
+
+def check(label, rows, tolerance, order, how, failures):
+    """Appends to failures what misses its tolerance (finest row) or order."""
+    finest = rows[-1]
+    for key, tol in tolerance.items():
+        if finest[key] > tol:
+            failures.append(f"{label}: {key} {finest[key]:.3e} > {tol:g} at h = {finest['h']}")
+    # The order is asserted where it is asymptotic: between the two finest
+    # discretisations (the coarser pairs are reported, not checked).
+    for r in rows[-1:]:
+        for key in [k for k in r if k.startswith("order_")]:
+            ok = abs(r[key] - order) <= ORDER_SLACK if how == "equal" else r[key] >= order - ORDER_SLACK
+            if not ok:
+                failures.append(f"{label}: {key} {r[key]:.2f} at h = {r['h']}, expected "
+                                f"{'' if how == 'equal' else '>= '}{order} (slack {ORDER_SLACK})")
+
+
+def print_rows(label, rows, keys):
+    print(label)
+    for r in rows:
+        parts = [f"{k[6:]} error {r[k]:.3e} (order {r.get('order_' + k[6:], float('nan')):.2f})" for k in keys]
+        print(f"  h = {r['h']:<7} " + ", ".join(parts) + f", {r['wall_time_s']:.3f} s")
+
+
+def write(outdir, summary):
+    with open(os.path.join(outdir, "results.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    for msg in summary["failures"]:
+        print("FAILED:", msg)
+
+
+def plot(results, cases, key, length, title, filename):
+    """Error against h / L and against wall time for the given cases."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5))
+    colours = {"discrete": "C0", "fem p=1": "C1", "fem p=2": "C2", "fem p=3": "C3"}
+    styles = ["o-", "s--", "^:"]
+    for c in results:
+        if c["case"] not in cases:
+            continue
+        style = styles[cases.index(c["case"]) % len(styles)]
+        h = [r["h"] / length for r in c["rows"]]
+        e = [max(r[key], 1e-16) for r in c["rows"]]
+        t = [r["wall_time_s"] for r in c["rows"]]
+        label = f"{c['model']}, {c['case']}"
+        a.loglog(h, e, style, color=colours[c["model"]], label=label)
+        b.loglog(t, e, style, color=colours[c["model"]], label=label)
+    a.set_xlabel("lambda_0 / L or h / L")
+    a.set_ylabel(key.replace("_", " "))
+    a.set_title(title + ": convergence")
+    b.set_xlabel("wall time (s)")
+    b.set_ylabel(key.replace("_", " "))
+    b.set_title(title + ": work-precision")
+    a.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(filename, dpi=100)
