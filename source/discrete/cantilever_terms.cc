@@ -22,20 +22,7 @@ namespace wirefem::discrete
   {
     const Vec2 b = c.x[c.first + 1] - c.x[c.first];
     const double zeta = angle(c);
-    double moment;
-    if (law.is_plastic())
-      {
-        const auto r = law.evaluate(zeta, state);
-        trial_state = r.state;
-        moment = r.moment;
-        e.plastic_work += r.plastic_work;
-        e.bending += law.elastic_energy(zeta, r.state);
-      }
-    else
-      {
-        moment = law.elastic_stiffness() * zeta;
-        e.bending += 0.5 * moment * zeta;
-      }
+    const double moment = spring_moment(law, zeta, &state, &trial_state, e);
     // d zeta / d x_{first+1} = perp(b)/|b|^2; the clamp node takes the reaction.
     const Vec2 g = (1.0 / norm_square(b)) * perp(b);
     c.f[c.first + 1] -= moment * g;
@@ -60,8 +47,9 @@ namespace wirefem::discrete
     return -factor * (dot(force, c.x[c.last - 1]) + moment * end_angle(c));
   }
 
-  void EndLoadTerm::add_forces(Chain &c, double, StepEnergy &)
+  void EndLoadTerm::add_forces(Chain &c, double, StepEnergy &e)
   {
+    e.load_potential += potential(c);
     const int n = c.last - 1;
     const Vec2 b = c.x[n] - c.x[n - 1];
     trial_angle = end_angle(c);

@@ -111,20 +111,8 @@ namespace wirefem::discrete
       {
         const TurningAngle angle(c, k);
         const double zeta = angle.zeta;
-        double moment;
-        if (plastic)
-          {
-            const auto r = law.evaluate(zeta, state[k]);
-            trial_state[k] = r.state;
-            moment = r.moment;
-            e.plastic_work += r.plastic_work;
-            e.bending += law.elastic_energy(zeta, r.state);
-          }
-        else
-          {
-            moment = law.elastic_stiffness() * zeta;
-            e.bending += 0.5 * moment * zeta;
-          }
+        double moment = plastic ? spring_moment(law, zeta, &state[k], &trial_state[k], e)
+                                : spring_moment(law, zeta, nullptr, nullptr, e);
         if (damping > 0.0)
           {
             const double rate = angle.rate(c, k);
@@ -134,6 +122,22 @@ namespace wirefem::discrete
           }
         angle.apply(c, k, moment);
       }
+  }
+
+  double spring_moment(const material::MomentCurvatureLaw &law, const double zeta,
+                       const material::PlasticState *old, material::PlasticState *trial, StepEnergy &e)
+  {
+    if (!law.is_plastic())
+      {
+        const double moment = law.elastic_stiffness() * zeta;
+        e.bending += 0.5 * moment * zeta;
+        return moment;
+      }
+    const auto r = law.evaluate(zeta, *old);
+    *trial = r.state;
+    e.plastic_work += r.plastic_work;
+    e.bending += law.elastic_energy(zeta, r.state);
+    return r.moment;
   }
 
   void BendingTerm::commit()

@@ -48,6 +48,7 @@ namespace wirefem::discrete
     double bending = 0.0;         ///< sum 1/2 k2 (zeta - zeta_p)^2
     double contact = 0.0;         ///< penalty energy 1/2 k_n overlap^2
     double friction_stored = 0.0; ///< energy in sticking springs 1/2 k_t u^2
+    double load_potential = 0.0;  ///< potential of external loads (cantilever set-up)
     double damping_work = 0.0;    ///< dissipated by viscous damping this step
     double plastic_work = 0.0;    ///< plastic work this step
     double friction_work = 0.0;   ///< work dissipated by slip this step

@@ -168,6 +168,12 @@ namespace wirefem::discrete
     PreviousRates<geometry::Vec2> previous; // velocity per node
   };
 
+  /// The moment of a rotational spring at turning angle zeta: the return
+  /// mapping of `old` into `trial` when the law is plastic (state pointers
+  /// unused otherwise); books the elastic energy and the plastic work.
+  double spring_moment(const material::MomentCurvatureLaw &law, double zeta,
+                       const material::PlasticState *old, material::PlasticState *trial, StepEnergy &energy);
+
   /// The clamp of a cantilever (Set-up = cantilever): the first active node
   /// is held in place and the first segment's direction is held along
   /// `direction` by a rotational spring. That spring stands for the half
@@ -196,9 +202,9 @@ namespace wirefem::discrete
 
   /// A dead force and a moment on the free end of a cantilever (the last
   /// active node and the last segment), scaled by a load factor. Potential
-  /// V = -factor (F . x_N + M phi), phi the direction angle of the last
-  /// segment, followed continuously through full turns (unwrapped against
-  /// the committed angle).
+  /// V = -factor (F . x_N + M phi) (booked as load_potential), phi the
+  /// direction angle of the last segment, followed continuously through full
+  /// turns (unwrapped against the committed angle).
   class EndLoadTerm : public Term
   {
   public:
