@@ -31,7 +31,8 @@ TITLES = {"cantilever": "Cantilever (cases 1, 2; convergence of case 7)",
           "buckling": "Euler buckling and post-buckling (case 3; convergence of case 7)"}
 INTRO = {
     "cantilever": "Rod L = {length:g} d, EA = {EA:g}, EI = {EI:g}, clamped at the origin, loaded at its free "
-                  "end. Errors at the free end: position error / L and rotation error (rad).",
+                  "end. Errors at the free end: position error / L and rotation error (rad). The case "
+                  "slender_1e4 has slenderness L sqrt(EA/EI) = 1e4 (FEM only): the locking check.",
     "buckling": "Pinned-pinned rod of length {length:g} d (EA = {EA:g}, EI = {EI:g}; P_cr = {P_cr:.5g}), "
                 "computed as its half: a cantilever clamped at mid-span pushed axially at the pinned end, "
                 "with a transverse imperfection of {imperfection:g} P in the models and in the reference. "
