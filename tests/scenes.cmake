@@ -76,6 +76,10 @@ add_test(NAME validation.buckling
          COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/buckling/run.py ${WIREFEM_EXE}
                  ${CMAKE_BINARY_DIR}/validation/buckling)
 set_tests_properties(validation.buckling PROPERTIES LABELS validation TIMEOUT 3600)
+add_test(NAME validation.plastic_cycles
+         COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/plastic_cycles/run.py ${WIREFEM_EXE}
+                 ${CMAKE_BINARY_DIR}/validation/plastic_cycles)
+set_tests_properties(validation.plastic_cycles PROPERTIES LABELS validation TIMEOUT 3600)
 
 # Hard cases: each runs to its end (jamming or the maximum density) without a
 # numerical stop. summary.json must say failed = false (checked by the script).

@@ -91,13 +91,14 @@ namespace wirefem::fem
     const double scale = w.bending_stiffness / (cl.length * cl.length) +
                          std::hypot(cl.end_force_x, cl.end_force_y) + std::abs(cl.end_moment) / cl.length;
 
+    double assembled_plastic_work = 0.0; // of the last assembly, against the committed state
     // R = internal force - factor * end load, with the clamp's rows removed;
     // K its Jacobian (or only R when want_tangent is false).
     auto assemble = [&](const double factor, const bool want_tangent) {
       R = 0.0;
       if (want_tangent)
         K = 0.0;
-      out.stretching = out.shear = out.bending = 0.0;
+      out.stretching = out.shear = out.bending = assembled_plastic_work = 0.0;
       for (unsigned int c = 0; c < n_cells; ++c)
         {
           local_dofs(c);
@@ -108,6 +109,7 @@ namespace wirefem::fem
           out.stretching += er.axial_energy;
           out.shear += er.shear_energy;
           out.bending += er.bending_energy;
+          assembled_plastic_work += er.plastic_work;
           for (unsigned int i = 0; i < nd; ++i)
             {
               R[local[i]] += er.residual[i];
@@ -183,12 +185,16 @@ namespace wirefem::fem
     // unstable mode, to the side of the transverse end force, and solved
     // again. So the run follows the stable branch connected to the unloaded
     // rod, as the dynamic relaxation of the discrete model does.
-    double factor = 0.0, increment = 0.1;
+    double factor = 0.0, increment = 0.1, plastic_work = 0.0;
     int cuts = 0;
     bool was_stable = true;
-    while (factor < 1.0)
+    const auto points = scene::load_points(cl);
+    std::size_t point = 0;
+    while (point < points.size() && cuts <= 12)
       {
-        const double target = std::min(1.0, factor + increment);
+        const double goal = points[point];
+        const double target =
+            std::abs(goal - factor) <= increment ? goal : factor + (goal > factor ? increment : -increment);
         const dealii::Vector<double> u_start = u;
         bool ok = newton(target);
         if (ok)
@@ -236,11 +242,17 @@ namespace wirefem::fem
           }
         state = trial;
         factor = target;
+        plastic_work += assembled_plastic_work;
         was_stable = out.lowest_eigenvalue >= 0.0;
         increment = std::min(0.1, 1.5 * increment);
         ++out.increments;
+        if (factor == goal)
+          {
+            out.history.push_back({{factor, u[3 * tip], u[3 * tip + 1], u[3 * tip + 2], plastic_work}});
+            ++point;
+          }
       }
-    out.converged = factor >= 1.0;
+    out.converged = point == points.size();
     out.S = S;
     for (unsigned int k = 0; k < n_nodes; ++k)
       {

@@ -55,7 +55,11 @@ namespace wirefem::material
     r.state.accumulated_strain = old.accumulated_strain + dgamma;
     r.moment = trial - stiffness * sign * dgamma;
     r.tangent = stiffness * hardening_modulus / (stiffness + hardening_modulus);
-    r.plastic_work = r.moment * sign * dgamma;
+    // Work into plastic flow, integral of M de_p over the increment: during
+    // flow M rises with e_p at the slope H, so the integral is M_new de_p
+    // - H de_p^2 / 2 exactly (M_new de_p alone overstates it by H de_p^2/2
+    // per increment, which does not cancel over a closed cycle).
+    r.plastic_work = r.moment * sign * dgamma - 0.5 * hardening_modulus * dgamma * dgamma;
     return r;
   }
 } // namespace wirefem::material

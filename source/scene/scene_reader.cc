@@ -1,6 +1,7 @@
 #include <wirefem/scene/scene_reader.h>
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/utilities.h>
 
 #include <cmath>
 #include <filesystem>
@@ -144,6 +145,13 @@ namespace wirefem::scene
                 "Moment on the free end (force d), positive counter-clockwise.");
       d.declare("Cantilever/Load time", "100", any_double,
                 "The load rises linearly from zero over this time; then the run relaxes to equilibrium.");
+      d.declare("Cantilever/Load history", "1", Patterns::List(Patterns::Double(), 1),
+                "Load factors the end load passes through, each reached linearly over Load time from the "
+                "previous one (from 0 at the start): '1' loads once, '1, -1, 1' cycles. The run relaxes to "
+                "equilibrium at the end of each leg (and at Points per leg along it) and writes them to "
+                "history.csv.");
+      d.declare("Cantilever/Points per leg", "1", Patterns::Integer(1, 10000),
+                "Equilibria recorded along each leg of the load history.");
       d.declare("Cantilever/Damping", "0", any_double,
                 "gamma of the relaxation drag -gamma m v (1/time); 0: twice the first bending frequency "
                 "of the unloaded cantilever (critical damping of that mode).");
@@ -310,6 +318,10 @@ namespace wirefem::scene
       cl.end_force_y = d.get_double("Cantilever/End force y");
       cl.end_moment = d.get_double("Cantilever/End moment");
       cl.load_time = d.get_double("Cantilever/Load time");
+      cl.load_history.clear();
+      for (const auto &item : dealii::Utilities::split_string_list(d.get("Cantilever/Load history")))
+        cl.load_history.push_back(std::stod(item));
+      cl.points_per_leg = static_cast<unsigned int>(std::stoul(d.get("Cantilever/Points per leg")));
       cl.damping = d.get_double("Cantilever/Damping");
       cl.tolerance = d.get_double("Cantilever/Tolerance");
       cl.maximum_time = d.get_double("Cantilever/Maximum time");

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -27,6 +28,8 @@ namespace wirefem::simulation
       std::vector<std::string> effects;
       std::string description;
       nlohmann::json extra; ///< model-specific summary fields
+      /// Per recorded equilibrium: load factor, tip x, y, rotation, plastic work so far.
+      std::vector<std::array<double, 5>> history;
       double bending = 0.0, stretching = 0.0, shear = 0.0;
     };
 
@@ -90,40 +93,57 @@ namespace wirefem::simulation
       double t = 0.0;
       discrete::StepEnergy e;
       const double a = 0.5 * gamma * dt;
-      while (true)
+      // Along the load history: ramp linearly to the next point over
+      // Load time / Points per leg, then relax at that load to equilibrium
+      // and record it.
+      const double ramp = cl.load_time / cl.points_per_leg;
+      const auto tip_rotation = [&]() {
+        return load->end_angle(c) + (n >= 2 ? 0.5 * discrete::BendingTerm::turning_angle(c, n - 1) : 0.0);
+      };
+      double factor = 0.0, plastic_work = 0.0;
+      for (const double target : scene::load_points(cl))
         {
-          load->set_load_factor(cl.load_time > 0.0 ? std::min(1.0, t / cl.load_time) : 1.0);
-          std::fill(c.f.begin(), c.f.end(), Vec2{});
-          e = discrete::StepEnergy{};
-          for (auto &term : terms)
-            term->add_forces(c, dt, e);
-          double fmax = 0.0;
-          for (int k = 1; k <= n; ++k)
-            fmax = std::max(fmax, norm(c.f[k]));
-          result.residual = fmax / scale;
-          if (t >= cl.load_time && result.residual < cl.tolerance)
+          const double from = factor, t_leg = t;
+          result.converged = false;
+          while (true)
             {
-              result.converged = true;
-              break;
+              factor = ramp > 0.0 ? from + (target - from) * std::min(1.0, (t - t_leg) / ramp) : target;
+              load->set_load_factor(factor);
+              std::fill(c.f.begin(), c.f.end(), Vec2{});
+              e = discrete::StepEnergy{};
+              for (auto &term : terms)
+                term->add_forces(c, dt, e);
+              double fmax = 0.0;
+              for (int k = 1; k <= n; ++k)
+                fmax = std::max(fmax, norm(c.f[k]));
+              result.residual = fmax / scale;
+              if (factor == target && result.residual < cl.tolerance)
+                {
+                  result.converged = true;
+                  break;
+                }
+              if (t >= cl.maximum_time || !std::isfinite(fmax))
+                break;
+              // Semi-implicit Euler with the drag taken at the step's midpoint.
+              for (int k = 1; k <= n; ++k)
+                {
+                  c.v[k] = (1.0 / (1.0 + a)) * ((1.0 - a) * c.v[k] + (dt / mass) * c.f[k]);
+                  c.x[k] += dt * c.v[k];
+                }
+              for (auto &term : terms)
+                term->commit();
+              plastic_work += e.plastic_work;
+              t += dt;
+              ++result.steps;
             }
-          if (t >= cl.maximum_time || !std::isfinite(fmax))
+          if (!result.converged)
             break;
-          // Semi-implicit Euler with the drag taken at the step's midpoint.
-          for (int k = 1; k <= n; ++k)
-            {
-              c.v[k] = (1.0 / (1.0 + a)) * ((1.0 - a) * c.v[k] + (dt / mass) * c.f[k]);
-              c.x[k] += dt * c.v[k];
-            }
-          for (auto &term : terms)
-            term->commit();
-          t += dt;
-          ++result.steps;
+          out.history.push_back({{factor, c.x[n].x, c.x[n].y, tip_rotation(), plastic_work}});
         }
 
       result.tip_x = c.x[n].x;
       result.tip_y = c.x[n].y;
-      result.tip_rotation =
-          load->end_angle(c) + (n >= 2 ? 0.5 * discrete::BendingTerm::turning_angle(c, n - 1) : 0.0);
+      result.tip_rotation = tip_rotation();
       for (int k = 0; k <= n; ++k)
         {
           out.S.push_back(k * l0);
@@ -156,6 +176,7 @@ namespace wirefem::simulation
       out.bending = sol.bending;
       out.stretching = sol.stretching;
       out.shear = sol.shear;
+      out.history = sol.history;
       out.extra = {
           {"elements", static_cast<long>(std::lround(scene.cantilever.length / scene.fem.element_length))},
           {"element_length", scene.fem.element_length},
@@ -193,6 +214,12 @@ namespace wirefem::simulation
       for (std::size_t k = 0; k < r.S.size(); ++k)
         shape << fmt::format("{:.17g},{:.17g},{:.17g}\n", r.S[k], r.x[k], r.y[k]);
     }
+    {
+      std::ofstream history(dir / "history.csv");
+      history << "load_factor,tip_x,tip_y,tip_rotation,plastic_work\n";
+      for (const auto &h : r.history)
+        history << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", h[0], h[1], h[2], h[3], h[4]);
+    }
     nlohmann::json j = r.extra;
     j["setup"] = "cantilever";
     j["model"] = fem ? "fem" : "discrete";
@@ -206,6 +233,7 @@ namespace wirefem::simulation
     j["converged"] = result.converged;
     j["wall_time_s"] = result.wall_time_s;
     j["active_effects"] = r.effects;
+    j["plastic_work"] = r.history.empty() ? 0.0 : r.history.back()[4];
     j["energy"] = {{"bending", r.bending}, {"stretching", r.stretching}, {"shear", r.shear}};
     const auto tmp = dir / "summary.json.tmp";
     std::ofstream(tmp.string()) << j.dump(2) << '\n';

@@ -5,6 +5,7 @@
 
 #include <wirefem/scene/parameters.h>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,9 @@ namespace wirefem::fem
     unsigned int unstable_states_left = 0;
     std::vector<std::string> effects;
     double stretching = 0.0, shear = 0.0, bending = 0.0;
+    /// Per recorded equilibrium (scene::load_points): load factor, tip x, y,
+    /// section angle, plastic work so far.
+    std::vector<std::array<double, 5>> history;
   };
 
   CantileverSolution solve_cantilever(const scene::Scene &scene);

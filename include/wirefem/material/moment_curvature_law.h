@@ -29,7 +29,7 @@ namespace wirefem::material
     double moment = 0.0;       ///< M
     double tangent = 0.0;      ///< dM/de (algorithmic)
     PlasticState state;        ///< updated history
-    double plastic_work = 0.0; ///< M * (e_p,new - e_p,old): work into plastic flow this increment
+    double plastic_work = 0.0; ///< integral of M de_p over the increment (exact for the linear law)
   };
 
   class MomentCurvatureLaw

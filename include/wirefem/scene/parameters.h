@@ -8,6 +8,7 @@
 
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace wirefem::scene
 {
@@ -42,12 +43,31 @@ namespace wirefem::scene
     double length = 20.0;     ///< L (d)
     double end_force_x = 0.0; ///< dead end force (force)
     double end_force_y = 0.0;
-    double end_moment = 0.0;     ///< end moment (force d), + = counter-clockwise
-    double load_time = 100.0;    ///< ramp of the load (time)
-    double damping = 0.0;        ///< gamma of -gamma m v; 0: critical for the first mode
-    double tolerance = 1e-10;    ///< largest nodal force / force scale at equilibrium
-    double maximum_time = 1.0e6; ///< give up (exit 3) when not in equilibrium by then
+    double end_moment = 0.0;  ///< end moment (force d), + = counter-clockwise
+    double load_time = 100.0; ///< ramp of the load over each leg of the history (time)
+    /// Load factors the load passes through, linearly from 0 and from one to
+    /// the next (a cyclic history: 1, -1, 1); the last one is the final load.
+    std::vector<double> load_history{1.0};
+    unsigned int points_per_leg = 1; ///< equilibria recorded along each leg (history.csv)
+    double damping = 0.0;            ///< gamma of -gamma m v; 0: critical for the first mode
+    double tolerance = 1e-10;        ///< largest nodal force / force scale at equilibrium
+    double maximum_time = 1.0e6;     ///< give up (exit 3) when not in equilibrium by then
   };
+
+  /// The load factors at which a cantilever run records an equilibrium, in
+  /// order: points_per_leg evenly spaced ones along each leg of the history.
+  inline std::vector<double> load_points(const CantileverParameters &cl)
+  {
+    std::vector<double> points;
+    double previous = 0.0;
+    for (const double f : cl.load_history)
+      {
+        for (unsigned int j = 1; j <= cl.points_per_leg; ++j)
+          points.push_back(previous + (f - previous) * j / cl.points_per_leg);
+        previous = f;
+      }
+    return points;
+  }
 
   struct CavityParameters
   {
