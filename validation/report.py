@@ -58,14 +58,15 @@ COMMON = ("Each model is compared with the elastica of its own axial (and for th
 
 def orders(rows, key):
     vals = [f"{r['order_' + key[6:]]:.2f}" if "order_" + key[6:] in r else "-" for r in rows[1:]]
-    return ", ".join(vals) if any(v != "-" for v in vals) else "(exact or round-off)"
+    return ", ".join(vals) if any(v != "-" for v in vals) else "-"
 
 
 def section(study, res, figures):
     keys = [k for k in res["cases"][0]["rows"][0] if k.startswith("error_")]
     tolerances = ", ".join(f"{k[6:]} {v:g}" for k, v in res["tolerance"].items())
-    out = [f"## {TITLES.get(study, study)}", "", INTRO.get(study, "").format(**res) + " " +
-           COMMON.format(tolerances=tolerances, **res), ""]
+    common = (f"Tolerances (FEM): {tolerances}." if study == "plastic_cycles"
+              else COMMON.format(tolerances=tolerances, **res))
+    out = [f"## {TITLES.get(study, study)}", "", INTRO.get(study, "").format(**res) + " " + common, ""]
     out += ["| model | case | finest h | " + " | ".join(k[6:] + " error" for k in keys) + " | " +
             " | ".join("orders (" + k[6:] + ")" for k in keys) + " |",
             "|---|---|---|" + "---|" * (2 * len(keys))]
