@@ -15,24 +15,13 @@ the branch connected to the unloaded rod (continuation in the load).
 """
 import math
 
-import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 
 def _integrate(m0, L, EA, EI, P, GA=math.inf, dense=False):
-    px, py = P
-
-    def rhs(_s, u):
-        x, y, th, m = u
-        c, s = math.cos(th), math.sin(th)
-        stretch = 1.0 + (px * c + py * s) / EA
-        shear = (-px * s + py * c) / GA
-        dx, dy = stretch * c - shear * s, stretch * s + shear * c
-        return [dx, dy, m / EI, -(dx * py - dy * px)]
-
-    return solve_ivp(rhs, (0.0, L), [0.0, 0.0, 0.0, m0], method="DOP853", rtol=1e-13, atol=1e-14,
-                     dense_output=dense)
+    return solve_ivp(lambda _s, u: _rhs(u, EA, EI, P, GA), (0.0, L), [0.0, 0.0, 0.0, m0], method="DOP853",
+                     rtol=1e-13, atol=1e-14, dense_output=dense)
 
 
 def cantilever(L, EA, EI, P=(0.0, 0.0), M=0.0, GA=math.inf, steps=20):
@@ -69,13 +58,6 @@ def rolled_up(L, EI, M):
     rho = EI / M
     th = L / rho
     return rho * math.sin(th), rho * (1.0 - math.cos(th)), th
-
-
-if __name__ == "__main__":
-    # Inextensible check against the classical elastica numbers (stiff EA).
-    for load in (1, 2, 5, 10):
-        x, y, th = cantilever(1.0, 1e12, 1.0, (0.0, -load))
-        print(f"PL^2/EI = {load:2d}: 1 - x/L = {1 - x:.5f}, -y/L = {-y:.5f}, rotation = {-th:.5f}")
 
 
 def buckled_cantilever(L, EA, EI, P, eps=0.0, GA=math.inf, n_scan=400):
@@ -127,3 +109,10 @@ def elliptic_buckling(alpha):
     k = math.sin(alpha / 2.0)
     K, E = ellipk(k * k), ellipe(k * k)
     return (2.0 * K / math.pi) ** 2, 2.0 - 2.0 * E / K, k / K
+
+
+if __name__ == "__main__":
+    # Inextensible check against the classical elastica numbers (stiff EA).
+    for load in (1, 2, 5, 10):
+        x, y, th = cantilever(1.0, 1e12, 1.0, (0.0, -load))
+        print(f"PL^2/EI = {load:2d}: 1 - x/L = {1 - x:.5f}, -y/L = {-y:.5f}, rotation = {-th:.5f}")
