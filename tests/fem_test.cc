@@ -3,6 +3,7 @@
 // plasticity, viscosity and contact), rigid-body rotation, locking at
 // slenderness 1e4, friction stick and slip, Newton convergence and the
 // energy balance of a small run.
+#include <wirefem/fem/cantilever.h>
 #include <wirefem/fem/contact_element.h>
 #include <wirefem/fem/rod_element.h>
 #include <wirefem/fem/rod_model.h>
@@ -96,9 +97,11 @@ namespace
         }
   }
 
-  void expect_tangent_matches_residual(const fem::ElementShape &shape, const material::MomentCurvatureLaw &law,
+  void expect_tangent_matches_residual(const fem::ElementShape &shape,
+                                       const material::MomentCurvatureLaw &law,
                                        const fem::SectionProperties &sec, const double dt,
-                                       const std::vector<double> &dofs, const std::vector<fem::PointState> &old)
+                                       const std::vector<double> &dofs,
+                                       const std::vector<fem::PointState> &old)
   {
     fem::ElementResult r, rp, rm;
     fem::evaluate_rod_element(shape, sec, law, dofs.data(), old.data(), dt, true, r);
@@ -177,7 +180,9 @@ namespace
   {
     const auto shape = fem::ElementShape::lagrange(p, L / n_el, nq);
     const unsigned int n_nodes = n_el * p + 1, n = 3 * n_nodes;
-    auto node = [&](unsigned int e, unsigned int a) { return a == 0 ? e * p : a == 1 ? (e + 1) * p : e * p + a - 1; };
+    auto node = [&](unsigned int e, unsigned int a) {
+      return a == 0 ? e * p : a == 1 ? (e + 1) * p : e * p + a - 1;
+    };
     dealii::Vector<double> u(n);
     for (unsigned int e = 0; e < n_el; ++e)
       for (unsigned int a = 0; a <= p; ++a)
@@ -227,7 +232,7 @@ namespace
     const auto sec = section();
     const double EI = 60.0;
     const double L = 1e4 * std::sqrt(EI / sec.EA); // slenderness L / radius of gyration
-    const double P = 3e-4 * EI / (L * L);            // tip deflection 1e-4 L: linear range
+    const double P = 3e-4 * EI / (L * L);          // tip deflection 1e-4 L: linear range
     const double exact = P * L * L * L / (3 * EI) + P * L / sec.GA;
     // Reduced integration (p points) converges with order 2 for p = 1 ...
     double err[3];
@@ -295,9 +300,8 @@ namespace
   TEST(FemContact, SegmentForceIsTheGradientAndTangentTheDerivative)
   {
     // End point of B against the interior of A, and end against end.
-    for (const std::array<Vec2, 4> x :
-         {std::array<Vec2, 4>{{{0, 0}, {1, 0.1}, {0.4, 0.8}, {0.7, 1.9}}},
-          std::array<Vec2, 4>{{{0, 0}, {1, 0.1}, {1.5, 0.6}, {2.5, 1.0}}}})
+    for (const std::array<Vec2, 4> x : {std::array<Vec2, 4>{{{0, 0}, {1, 0.1}, {0.4, 0.8}, {0.7, 1.9}}},
+                                        std::array<Vec2, 4>{{{0, 0}, {1, 0.1}, {1.5, 0.6}, {2.5, 1.0}}}})
       for (const bool friction : {false, true})
         {
           const std::array<Vec2, 4> v0{{{0.001, 0}, {0.002, 0.001}, {-0.003, 0}, {0, 0.002}}};
@@ -345,7 +349,8 @@ namespace
               }
             const double g[2] = {m * (x1.x - x.x - dt * v.x) / (dt * dt) + cc.residual[0] - T,
                                  m * (x1.y - x.y - dt * v.y) / (dt * dt) + cc.residual[1] - P};
-            double J[4] = {m / (dt * dt) + cc.tangent[0], cc.tangent[1], cc.tangent[2], m / (dt * dt) + cc.tangent[3]};
+            double J[4] = {m / (dt * dt) + cc.tangent[0], cc.tangent[1], cc.tangent[2],
+                           m / (dt * dt) + cc.tangent[3]};
             const double det = J[0] * J[3] - J[1] * J[2];
             x1.x -= (J[3] * g[0] - J[1] * g[1]) / det;
             x1.y -= (-J[2] * g[0] + J[0] * g[1]) / det;
@@ -400,7 +405,8 @@ namespace
     ASSERT_GE(orders.size(), 5u) << "too few steps with enough Newton iterations";
     std::sort(orders.begin(), orders.end());
     const double median = orders[orders.size() / 2];
-    EXPECT_GT(median, 1.8) << orders.size() << " steps, lowest " << orders.front() << ", highest " << orders.back();
+    EXPECT_GT(median, 1.8) << orders.size() << " steps, lowest " << orders.front() << ", highest "
+                           << orders.back();
     std::cout << "Newton order: median " << median << " over " << orders.size() << " steps\n";
   }
 
@@ -408,7 +414,8 @@ namespace
   {
     // Elastoplastic wire with dashpots, friction, wall and self contact, in
     // generalized-alpha: check at steps with contacts.
-    fem::RodModel m(fem_scene({"Wire/Plasticity/Yield curvature=0.05", "Contact/Friction/Static coefficient=0.5"}));
+    fem::RodModel m(
+        fem_scene({"Wire/Plasticity/Yield curvature=0.05", "Contact/Friction/Static coefficient=0.5"}));
     int checked = 0;
     while (m.injected_length() < 45.0 && checked < 3)
       {
@@ -435,5 +442,28 @@ namespace
     EXPECT_GT(e.friction, 0.0);
     EXPECT_LT(std::abs(e.balance_error()), 0.01) << "in " << e.initial + e.injection_work;
     EXPECT_LT(m.report().max_penetration, 0.1);
+  }
+  TEST(FemCantilever, PastTheEulerLoadNewtonKeepsToTheStableBranchOfTheImperfection)
+  {
+    // Half of a pinned-pinned rod at 1.5 and 3 times the Euler load, with a
+    // transverse imperfection of 1e-3 P up or down: load-controlled Newton
+    // must end on a stable state (positive lowest eigenvalue of the tangent)
+    // buckled to the side of the imperfection, well away from straight.
+    const double L = 20.0, EI = 60.0, P_cr = M_PI * M_PI * EI / (4.0 * L * L);
+    for (const double ratio : {1.5, 3.0})
+      for (const double side : {1.0, -1.0})
+        {
+          const double P = ratio * P_cr;
+          const auto s = scene::read_scene("", {"Set-up=cantilever", "Model=fem", "FEM/Degree=2",
+                                                "FEM/Element length=2.5", "Wire/Plasticity/Enabled=false",
+                                                "Cantilever/Tolerance=1e-10",
+                                                "Cantilever/End force x=" + std::to_string(-P),
+                                                "Cantilever/End force y=" + std::to_string(side * 1e-3 * P)});
+          const auto sol = fem::solve_cantilever(s);
+          ASSERT_TRUE(sol.converged) << ratio;
+          EXPECT_GT(sol.lowest_eigenvalue, 0.0) << ratio << " " << side;
+          EXPECT_GT(side * sol.y.back(), 0.25 * L) << ratio << " " << side; // mid-span deflection
+          EXPECT_GT(side * sol.theta.back(), 1.0) << ratio << " " << side;  // end slope (rad)
+        }
   }
 } // namespace
