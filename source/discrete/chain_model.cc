@@ -50,7 +50,7 @@ namespace wirefem::discrete
       {
         const auto &pl = scene.wire.plasticity;
         const double alpha = scene.yield_angle();
-        const bool plastic = pl.enabled && (keep || (alpha < M_PI && pl.hardening_slope < 1.0));
+        const bool plastic = scene.plastic_bending();
         const auto law = plastic ? material::MomentCurvatureLaw(k2, alpha, pl.hardening_slope, pl.hardening)
                                  : material::MomentCurvatureLaw(k2);
         auto b = std::make_unique<BendingTerm>(law, scene.discrete.rotational_damping, nodes.capacity());

@@ -38,9 +38,7 @@ namespace wirefem::fem
                      ? s.fem.kirchhoff_penalty * w.axial_stiffness
                      : s.fem.shear_stiffness;
     const auto &pl = w.plasticity;
-    const bool plastic =
-        pl.enabled && (s.keep_neutral_effects ||
-                       (pl.yield_curvature * s.discrete.segment_length < M_PI && pl.hardening_slope < 1.0));
+    const bool plastic = s.plastic_bending();
     const auto law = plastic ? material::MomentCurvatureLaw(w.bending_stiffness, pl.yield_curvature,
                                                             pl.hardening_slope, pl.hardening)
                              : material::MomentCurvatureLaw(w.bending_stiffness);
@@ -88,8 +86,7 @@ namespace wirefem::fem
     ElementResult er;
     std::vector<double> ue(nd);
     const unsigned int tip = n_nodes - 1;
-    const double scale = w.bending_stiffness / (cl.length * cl.length) +
-                         std::hypot(cl.end_force_x, cl.end_force_y) + std::abs(cl.end_moment) / cl.length;
+    const double scale = cl.force_scale(w.bending_stiffness);
 
     double assembled_plastic_work = 0.0; // of the last assembly, against the committed state
     // R = internal force - factor * end load, with the clamp's rows removed;

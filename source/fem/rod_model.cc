@@ -271,8 +271,7 @@ namespace wirefem::fem
     viscous = section.axial_viscosity > 0 || section.bending_viscosity > 0;
     const auto &pl = w.plasticity;
     const bool keep = s.keep_neutral_effects;
-    plastic = w.bending_stiffness > 0 && pl.enabled &&
-              (keep || (pl.yield_curvature * s.discrete.segment_length < M_PI && pl.hardening_slope < 1.0));
+    plastic = s.plastic_bending();
     law = plastic ? material::MomentCurvatureLaw(w.bending_stiffness, pl.yield_curvature, pl.hardening_slope,
                                                  pl.hardening)
                   : material::MomentCurvatureLaw(w.bending_stiffness);

@@ -56,8 +56,7 @@ namespace wirefem::simulation
       // The same choice of law as the injection scenes (discrete/chain_model.cc).
       const auto &pl = w.plasticity;
       const double alpha = scene.yield_angle();
-      const bool plastic =
-          pl.enabled && (scene.keep_neutral_effects || (alpha < M_PI && pl.hardening_slope < 1.0));
+      const bool plastic = scene.plastic_bending();
       const auto law = plastic ? material::MomentCurvatureLaw(k2, alpha, pl.hardening_slope, pl.hardening)
                                : material::MomentCurvatureLaw(k2);
       const auto clamp_law =
@@ -84,8 +83,7 @@ namespace wirefem::simulation
                             : scene.discrete.time_step_factor * 2.0 / std::sqrt(omega2);
       const double omega1 = 3.5160 * std::sqrt(w.bending_stiffness / (w.mass_per_length * L * L * L * L));
       const double gamma = cl.damping > 0.0 ? cl.damping : 2.0 * omega1;
-      const double scale = w.bending_stiffness / (L * L) + std::hypot(cl.end_force_x, cl.end_force_y) +
-                           std::abs(cl.end_moment) / L;
+      const double scale = cl.force_scale(w.bending_stiffness);
 
       Relaxed out;
       out.description = fmt::format("{} segments, dt = {:.4g}, drag gamma = {:.4g}", n, dt, gamma);

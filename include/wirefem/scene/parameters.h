@@ -6,6 +6,7 @@
 // for every key with its default and documentation.
 #pragma once
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -49,9 +50,16 @@ namespace wirefem::scene
     /// the next (a cyclic history: 1, -1, 1); the last one is the final load.
     std::vector<double> load_history{1.0};
     unsigned int points_per_leg = 1; ///< equilibria recorded along each leg (history.csv)
-    double damping = 0.0;            ///< gamma of -gamma m v; 0: critical for the first mode
-    double tolerance = 1e-10;        ///< largest nodal force / force scale at equilibrium
-    double maximum_time = 1.0e6;     ///< give up (exit 3) when not in equilibrium by then
+
+    /// The force scale of the equilibrium tolerance: EI/L^2 + |F| + |M|/L.
+    double force_scale(const double bending_stiffness) const
+    {
+      return bending_stiffness / (length * length) + std::hypot(end_force_x, end_force_y) +
+             std::abs(end_moment) / length;
+    }
+    double damping = 0.0;        ///< gamma of -gamma m v; 0: critical for the first mode
+    double tolerance = 1e-10;    ///< largest nodal force / force scale at equilibrium
+    double maximum_time = 1.0e6; ///< give up (exit 3) when not in equilibrium by then
   };
 
   /// The load factors at which a cantilever run records an equilibrium, in
@@ -188,5 +196,16 @@ namespace wirefem::scene
 
     /// Yield angle alpha_theta = kappa_theta * lambda_0 of the discrete model.
     double yield_angle() const { return wire.plasticity.yield_curvature * discrete.segment_length; }
+
+    /// Whether bending is elastoplastic: plasticity enabled on a wire with
+    /// bending stiffness, and not neutral (a yield angle below pi and a
+    /// hardening slope below 1), unless neutral effects are kept. Both
+    /// models decide by this.
+    bool plastic_bending() const
+    {
+      const auto &pl = wire.plasticity;
+      return wire.bending_stiffness > 0.0 && pl.enabled &&
+             (keep_neutral_effects || (yield_angle() < M_PI && pl.hardening_slope < 1.0));
+    }
   };
 } // namespace wirefem::scene
