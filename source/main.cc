@@ -4,6 +4,7 @@
 #include <wirefem/analysis/shape_io.h>
 #include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/cantilever.h>
+#include <wirefem/simulation/capstan.h>
 #include <wirefem/simulation/simulation.h>
 #include <wirefem/simulation/sweep.h>
 
@@ -141,6 +142,8 @@ int main(int argc, char **argv)
     {
       if (scene.setup == wirefem::scene::Setup::cantilever)
         return wirefem::simulation::run_cantilever(scene).converged ? 0 : 3;
+      if (scene.setup == wirefem::scene::Setup::capstan)
+        return wirefem::simulation::run_capstan(scene).finished ? 0 : 3;
       const auto result = wirefem::simulation::run(scene, {resume});
       return result.interrupted ? 130 : (result.failed ? 3 : 0);
     }

@@ -5,6 +5,7 @@
 #include <wirefem/injection/channels.h>
 #include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/cantilever.h>
+#include <wirefem/simulation/capstan.h>
 
 #include <gtest/gtest.h>
 
@@ -127,6 +128,57 @@ namespace
         term.commit();
       }
     EXPECT_NEAR(term.end_angle(c), 2.5 * M_PI, 1e-12);
+  }
+
+  TEST(ForceTerms, EndThrustMomentIsTheGradientOfItsPotential)
+  {
+    // The moment part is conservative (potential -M phi), at either end.
+    for (const auto end : {discrete::EndThrustTerm::End::first, discrete::EndThrustTerm::End::last})
+      {
+        discrete::EndThrustTerm term(end, 0.0, -1.7);
+        expect_forces_match_energy(term, wiggly_chain(6, 0.3, 14), 1e-6);
+      }
+  }
+
+  TEST(ForceTerms, EndThrustIsAFollowerForceAlongTheEndSegment)
+  {
+    // The thrust pushes the end node along its segment towards the wire,
+    // whatever the segment's direction, and touches no other node.
+    const Chain c0 = wiggly_chain(6, 0.3, 15);
+    for (const auto end : {discrete::EndThrustTerm::End::first, discrete::EndThrustTerm::End::last})
+      {
+        const bool first = end == discrete::EndThrustTerm::End::first;
+        const int k = first ? c0.first : c0.last - 1, j = first ? c0.first + 1 : c0.last - 2;
+        discrete::EndThrustTerm with(end, 2.5, 0.4), without(end, 0.0, 0.4);
+        Chain a = c0, b = c0;
+        StepEnergy e;
+        with.add_forces(a, 1e-3, e);
+        without.add_forces(b, 1e-3, e);
+        const Vec2 inward = (1.0 / norm(c0.x[j] - c0.x[k])) * (c0.x[j] - c0.x[k]);
+        for (int i = c0.first; i < c0.last; ++i)
+          {
+            const Vec2 expected = i == k ? 2.5 * inward : Vec2{};
+            EXPECT_NEAR(a.f[i].x - b.f[i].x, expected.x, 1e-12) << "node " << i;
+            EXPECT_NEAR(a.f[i].y - b.f[i].y, expected.y, 1e-12) << "node " << i;
+          }
+      }
+  }
+
+  TEST(Capstan, SteadySlidingFollowsTheChainsCapstanLaw)
+  {
+    // A wire on the wall over pi/2, pushed along it against T0 = 1 with
+    // mu_st = mu_d = 0.3: each frictional node multiplies the compression by
+    // (1 + mu tan(zeta/2)) / (1 - mu tan(zeta/2)).
+    auto s = scene::read_scene("", {"Set-up=capstan", "Cavity/Radius=25", "Wire/Plasticity/Enabled=false",
+                                    "Contact/Friction/Wall static coefficient=0.3",
+                                    "Contact/Friction/Wall dynamic coefficient=0.3"});
+    s.output.directory = testing::TempDir() + "wirefem_capstan";
+    const auto r = simulation::run_capstan(s);
+    ASSERT_TRUE(r.finished);
+    const double zeta = 2.0 * std::asin(0.5 / 24.5), tau = 0.3 * std::tan(0.5 * zeta);
+    const int m = static_cast<int>(std::lround(0.5 * M_PI / zeta));
+    EXPECT_NEAR(r.wrap_angle, m * zeta, 1e-12);
+    EXPECT_NEAR(r.push_force, std::pow((1.0 + tau) / (1.0 - tau), m), 1e-4);
   }
 
   TEST(Cantilever, EndMomentRelaxesToTheDiscreteArc)

@@ -30,28 +30,25 @@ if(EXISTS ${CHECK_CONTRACT})
 endif()
 
 # Bad input: exit status 2, a message naming the key, no output directory.
-foreach(case "radius;Cavity/Radius=-3" "dynamic;Contact/Friction/Dynamic coefficient=9"
-        "density;Injection/Maximum packing density=0.001")
-  list(GET case 0 name)
-  list(GET case 1 setting)
-  add_test(NAME scene.bad_input_${name}
-           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
-                   -DSETTING=${setting} -DOUT=${SCENE_OUT}/bad_${name}
-                   -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_bad_input.cmake)
-  set_tests_properties(scene.bad_input_${name} PROPERTIES LABELS regression)
-endforeach()
-
-# The same for the benchmark set-up of validation/ (Set-up = cantilever).
-foreach(case "cantilever_load_time;Cantilever/Load time=-1" "cantilever_segments;Discrete/Segment length=0.3"
-        "cantilever_length;Cantilever/Length=-1")
-  list(GET case 0 name)
-  list(GET case 1 setting)
-  add_test(NAME scene.bad_input_${name}
-           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/validation/cantilever/moment.prm
-                   -DSETTING=${setting} -DOUT=${SCENE_OUT}/bad_${name}
-                   -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_bad_input.cmake)
-  set_tests_properties(scene.bad_input_${name} PROPERTIES LABELS regression)
-endforeach()
+# Each case is "name;Section/Key=value", applied to the scene file prm.
+function(wirefem_bad_input prm)
+  foreach(case ${ARGN})
+    string(REPLACE "|" ";" case "${case}")
+    list(GET case 0 name)
+    list(GET case 1 setting)
+    add_test(NAME scene.bad_input_${name}
+             COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${prm} -DSETTING=${setting}
+                     -DOUT=${SCENE_OUT}/bad_${name} -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_bad_input.cmake)
+    set_tests_properties(scene.bad_input_${name} PROPERTIES LABELS regression)
+  endforeach()
+endfunction()
+wirefem_bad_input(${CMAKE_SOURCE_DIR}/prm/quick.prm "radius|Cavity/Radius=-3"
+                  "dynamic|Contact/Friction/Dynamic coefficient=9" "density|Injection/Maximum packing density=0.001")
+# The benchmark set-ups of validation/.
+wirefem_bad_input(${CMAKE_SOURCE_DIR}/validation/cantilever/moment.prm "cantilever_load_time|Cantilever/Load time=-1"
+                  "cantilever_segments|Discrete/Segment length=0.3" "cantilever_length|Cantilever/Length=-1")
+wirefem_bad_input(${CMAKE_SOURCE_DIR}/validation/capstan/capstan.prm "capstan_model|Model=fem"
+                  "capstan_wrap|Capstan/Wrap angle=3.5" "capstan_slide|Capstan/Slide=0.5")
 
 # A coarse cantilever (10 segments) relaxes to equilibrium through the executable.
 add_test(NAME scene.cantilever_runs
@@ -80,6 +77,10 @@ add_test(NAME validation.plastic_cycles
          COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/plastic_cycles/run.py ${WIREFEM_EXE}
                  ${CMAKE_BINARY_DIR}/validation/plastic_cycles)
 set_tests_properties(validation.plastic_cycles PROPERTIES LABELS validation TIMEOUT 3600)
+add_test(NAME validation.capstan
+         COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/capstan/run.py ${WIREFEM_EXE}
+                 ${CMAKE_BINARY_DIR}/validation/capstan)
+set_tests_properties(validation.capstan PROPERTIES LABELS validation TIMEOUT 3600)
 
 # Hard cases: each runs to its end (jamming or the maximum density) without a
 # numerical stop. summary.json must say failed = false (checked by the script).

@@ -57,4 +57,23 @@ namespace wirefem::discrete
     c.f[n] += factor * (force + moment * g);
     c.f[n - 1] -= factor * moment * g;
   }
+
+  EndThrustTerm::EndThrustTerm(const End end, const double thrust, const double moment)
+    : end(end)
+    , thrust(thrust)
+    , moment(moment)
+  {
+  }
+
+  void EndThrustTerm::add_forces(Chain &c, double, StepEnergy &e)
+  {
+    const int k = end == End::first ? c.first : c.last - 1;     // the end node
+    const int j = end == End::first ? c.first + 1 : c.last - 2; // its neighbour
+    const Vec2 b = c.x[k] - c.x[j];                             // outward along the end segment
+    const double length = norm(b);
+    e.load_potential -= moment * std::atan2(b.y, b.x);
+    const Vec2 g = (1.0 / (length * length)) * perp(b); // d phi / d x_k
+    c.f[k] += (-thrust / length) * b + moment * g;
+    c.f[j] -= moment * g;
+  }
 } // namespace wirefem::discrete

@@ -134,10 +134,33 @@ namespace wirefem::scene
 
       d.declare("Model", "discrete", Patterns::Selection("discrete|fem"),
                 "Wire model: 'discrete' (the paper's spring chain) or 'fem' (geometrically exact rod).");
-      d.declare("Set-up", "injection", Patterns::Selection("injection|cantilever"),
+      d.declare("Set-up", "injection", Patterns::Selection("injection|cantilever|capstan"),
                 "'injection': the wire pushed into the cavity (the paper). 'cantilever': a benchmark of "
                 "validation/, a straight rod clamped at the origin and loaded at its free end "
-                "(Cantilever subsection).");
+                "(Cantilever subsection). 'capstan': a benchmark of validation/, a wire on the cavity "
+                "wall pushed along it against an end force (Capstan subsection; discrete model).");
+      d.declare("Capstan/Wrap angle", "1.5707963267948966", any_double,
+                "Angle (rad) the frictional part of the wire covers on the wall, centred on the top of "
+                "the cavity; rounded to whole segments (summary.json has the angle used). At most 2.8.");
+      d.declare("Capstan/End force", "1", any_double,
+                "T0 (force): compressive follower force on the leading end, resisting the push.");
+      d.declare("Capstan/Control", "velocity", Patterns::Selection("velocity|force"),
+                "'velocity': the trailing end slides along the wall at Speed and the push force is "
+                "measured (steady sliding: T0 exp(mu_d angle)). 'force': a compressive follower force on "
+                "the trailing end rises at Force rate until the wire slips (T0 exp(mu_st angle)).");
+      d.declare("Capstan/Speed", "0.05", any_double,
+                "Velocity control: push speed (d/time); above Contact/Friction/Threshold velocity.");
+      d.declare("Capstan/Ramp time", "50", any_double,
+                "The end force T0 (and the speed, or the push force) rises linearly from 0 over this time.");
+      d.declare("Capstan/Slide", "10", any_double,
+                "Velocity control: distance pushed (d). The push force is averaged over the second half of "
+                "the time after the ramp.");
+      d.declare("Capstan/Force rate", "1e-3", any_double,
+                "Force control: rate of rise of the push force, in units of End force per time.");
+      d.declare("Capstan/Slip distance", "0.01", any_double,
+                "Force control: the wire has slipped once its leading end moved this far (d).");
+      d.declare("Capstan/Maximum time", "1e6", any_double,
+                "Stop with exit status 3 when the run has not ended by this time.");
       d.declare("Cantilever/Length", "20", any_double, "Rod length L (d), along +x from the clamp.");
       d.declare("Cantilever/End force x", "0", any_double, "Dead force on the free end, x (force).");
       d.declare("Cantilever/End force y", "0", any_double, "Dead force on the free end, y (force).");
@@ -311,7 +334,20 @@ namespace wirefem::scene
     {
       Scene s;
       s.model = d.get("Model") == "fem" ? ModelType::fem : ModelType::discrete;
-      s.setup = d.get("Set-up") == "cantilever" ? Setup::cantilever : Setup::injection;
+      const std::string setup = d.get("Set-up");
+      s.setup = setup == "cantilever" ? Setup::cantilever
+                : setup == "capstan"  ? Setup::capstan
+                                      : Setup::injection;
+      auto &cs = s.capstan;
+      cs.wrap_angle = d.get_double("Capstan/Wrap angle");
+      cs.end_force = d.get_double("Capstan/End force");
+      cs.velocity_control = d.get("Capstan/Control") == "velocity";
+      cs.speed = d.get_double("Capstan/Speed");
+      cs.ramp_time = d.get_double("Capstan/Ramp time");
+      cs.slide = d.get_double("Capstan/Slide");
+      cs.force_rate = d.get_double("Capstan/Force rate");
+      cs.slip_distance = d.get_double("Capstan/Slip distance");
+      cs.maximum_time = d.get_double("Capstan/Maximum time");
       auto &cl = s.cantilever;
       cl.length = d.get_double("Cantilever/Length");
       cl.end_force_x = d.get_double("Cantilever/End force x");
@@ -466,6 +502,26 @@ namespace wirefem::scene
           check(cl.damping >= 0, w, "Cantilever/Damping", "must not be negative");
           check(cl.tolerance > 0, w, "Cantilever/Tolerance", "must be positive");
           check(cl.maximum_time > cl.load_time, w, "Cantilever/Maximum time", "must exceed the load time");
+        }
+      else if (s.setup == Setup::capstan)
+        {
+          const auto &cs = s.capstan;
+          check(s.model == ModelType::discrete, w, "Model", "Set-up = capstan runs the discrete model only");
+          check(!s.plastic_bending(), w, "Wire/Plasticity/Enabled",
+                "Set-up = capstan bends the wire elastically to the wall: set it false");
+          check(cs.wrap_angle > 0 && cs.wrap_angle <= 2.8, w, "Capstan/Wrap angle",
+                "must be in (0, 2.8] (the wire must stay clear of the channel openings)");
+          check(cs.end_force > 0, w, "Capstan/End force", "must be positive");
+          check(cs.speed > 0, w, "Capstan/Speed", "must be positive");
+          check(cs.ramp_time >= 0, w, "Capstan/Ramp time", "must not be negative");
+          check(cs.slide >= cs.speed * cs.ramp_time, w, "Capstan/Slide",
+                "must be at least Speed * Ramp time (the push force is averaged over the second half of the "
+                "sliding at full speed)");
+          check(cs.force_rate > 0, w, "Capstan/Force rate", "must be positive");
+          check(cs.slip_distance > 0, w, "Capstan/Slip distance", "must be positive");
+          check(cs.maximum_time > 0, w, "Capstan/Maximum time", "must be positive");
+          check(ds.segment_length > 0 && ds.segment_length <= 0.25 * s.cavity.radius, w,
+                "Discrete/Segment length", "must be in (0, r/4]");
         }
       else
         {

@@ -225,6 +225,32 @@ namespace wirefem::discrete
     double committed_angle = 0.0, trial_angle = 0.0;
   };
 
+  /// A compressive follower force and a moment on one end of the chain
+  /// (Set-up = capstan). The end node is pushed along its segment towards
+  /// the wire's interior by `thrust`: a follower load, which turns with the
+  /// segment and has no potential. The end segment carries the moment
+  /// `moment` (counter-clockwise positive; potential -M phi, phi the
+  /// segment's direction angle), booked as load_potential for small turns.
+  class EndThrustTerm : public Term
+  {
+  public:
+    enum class End
+    {
+      first,
+      last
+    };
+    EndThrustTerm(End end, double thrust, double moment);
+    const char *name() const override { return "end thrust"; }
+    void set_thrust(double t) { thrust = t; }
+    double get_thrust() const { return thrust; }
+    void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+
+  private:
+    End end;
+    double thrust;
+    double moment;
+  };
+
   /// Parameters shared by the contact terms.
   struct ContactLaw
   {

@@ -31,7 +31,8 @@ namespace wirefem::scene
   enum class Setup
   {
     injection,
-    cantilever
+    cantilever,
+    capstan
   };
 
   /// Set-up = cantilever: a straight rod of length L along +x, clamped at the
@@ -76,6 +77,28 @@ namespace wirefem::scene
       }
     return points;
   }
+
+  /// Set-up = capstan: a wire lying on the cavity wall over a wrap angle,
+  /// centred on the top of the cavity, pushed clockwise along the wall
+  /// against a compressive follower force T0 on its leading end (validation
+  /// case 5, the capstan law). Both ends carry the moment that holds the
+  /// wire at the wall's curvature, so the wire has no bending boundary layer.
+  struct CapstanParameters
+  {
+    double wrap_angle = 1.5707963267948966; ///< angle the frictional part of the wire covers (rad)
+    double end_force = 1.0;                 ///< T0, compressive, on the leading end (force)
+    /// 'velocity': the trailing end (two nodes: position and direction) slides
+    /// along the wall at Speed, and the push force of steady sliding is
+    /// measured; 'force': a compressive follower force on the trailing end
+    /// rises at Force rate until the wire slips (the stick/slip threshold).
+    bool velocity_control = true;
+    double speed = 0.05;         ///< push speed (d / time), above the threshold velocity
+    double ramp_time = 50.0;     ///< the end loads and the speed rise linearly from 0 over this time
+    double slide = 10.0;         ///< velocity control: distance pushed (d)
+    double force_rate = 1e-3;    ///< force control: d(push force)/dt in units of T0 per time
+    double slip_distance = 0.01; ///< force control: slipped once the leading end moved this far (d)
+    double maximum_time = 1.0e6;
+  };
 
   struct CavityParameters
   {
@@ -185,6 +208,7 @@ namespace wirefem::scene
     ModelType model = ModelType::discrete;
     Setup setup = Setup::injection;
     CantileverParameters cantilever;
+    CapstanParameters capstan;
     CavityParameters cavity;
     WireParameters wire;
     ContactParameters contact;

@@ -1,0 +1,272 @@
+#include <wirefem/discrete/terms.h>
+#include <wirefem/simulation/capstan.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <vector>
+
+namespace wirefem::simulation
+{
+  using geometry::Vec2;
+
+  namespace
+  {
+    Vec2 on_circle(const double radius, const double angle)
+    {
+      return {radius * std::cos(angle), radius * std::sin(angle)};
+    }
+  } // namespace
+
+  CapstanResult run_capstan(const scene::Scene &scene)
+  {
+    const auto wall_start = std::chrono::steady_clock::now();
+    const auto &cs = scene.capstan;
+    const auto &w = scene.wire;
+    const auto &fr = scene.contact.friction;
+    const bool velocity = cs.velocity_control;
+    const double diameter = 1.0;
+    const double l0 = scene.discrete.segment_length;
+    const double Rc = scene.cavity.radius - 0.5 * diameter; // centreline on the wall
+    const double k1 = w.axial_stiffness / l0;
+    const double k2 = w.bending_stiffness / l0;
+    const double mass = w.mass_per_length * l0;
+    const double kn = scene.contact.normal_stiffness * l0;
+
+    // Nodes on the circle of radius Rc, one chord lambda_0 apart, turning
+    // clockwise by zeta at each. The frictional nodes are the free interior
+    // ones: 2 .. n-1 under velocity control (nodes 0 and 1 are held), 1 .. n-1
+    // under force control; at the end nodes the load acts along the segment.
+    const double zeta = 2.0 * std::asin(0.5 * l0 / Rc);
+    const int m = std::max(1, static_cast<int>(std::lround(cs.wrap_angle / zeta)));
+    const int n = velocity ? m + 2 : m + 1;
+    const int first_free = velocity ? 2 : 0;
+    CapstanResult result;
+    result.wrap_angle = m * zeta;
+    result.segments = n;
+    const double start_angle = 0.5 * M_PI + 0.5 * n * zeta;
+
+    discrete::Chain c(n + 1);
+    c.lambda0 = l0;
+    c.node_mass = mass;
+    c.first = 0;
+    c.last = n + 1;
+    c.n_prescribed = velocity ? 2 : 0;
+    for (int k = 0; k <= n; ++k)
+      c.x[k] = on_circle(Rc, start_angle - k * zeta);
+    const std::vector<Vec2> x0 = c.x;
+
+    // The moment that holds an end segment at the wall's curvature: the
+    // bending spring next to it turns by -zeta (clockwise).
+    const double held = k2 * zeta;
+    std::vector<std::unique_ptr<discrete::Term>> terms;
+    terms.push_back(std::make_unique<discrete::StretchingTerm>(k1, scene.discrete.axial_damping, n + 1));
+    terms.push_back(std::make_unique<discrete::BendingTerm>(material::MomentCurvatureLaw(k2),
+                                                            scene.discrete.rotational_damping, n + 1));
+    discrete::ContactLaw wall;
+    wall.diameter = diameter;
+    wall.normal_stiffness = kn;
+    wall.friction = true;
+    wall.coefficients.mu_static = fr.wall_static_coefficient;
+    wall.coefficients.mu_dynamic = fr.wall_dynamic_coefficient;
+    wall.coefficients.threshold_velocity = fr.threshold_velocity;
+    wall.coefficients.tangential_stiffness = fr.tangential_stiffness_ratio * kn;
+    terms.push_back(std::make_unique<discrete::WallContactTerm>(scene.cavity.radius, wall, n + 1));
+    auto resist = std::make_unique<discrete::EndThrustTerm>(discrete::EndThrustTerm::End::last, 0.0, -held);
+    discrete::EndThrustTerm *lead = resist.get();
+    terms.push_back(std::move(resist));
+    discrete::EndThrustTerm *push = nullptr;
+    if (!velocity)
+      {
+        auto p = std::make_unique<discrete::EndThrustTerm>(discrete::EndThrustTerm::End::first, cs.end_force,
+                                                           held);
+        push = p.get();
+        terms.push_back(std::move(p));
+      }
+    if (scene.discrete.translational_damping > 0.0)
+      terms.push_back(std::make_unique<discrete::DampingTerm>(scene.discrete.translational_damping, n + 1));
+    const std::vector<std::string> effects{"stretching", "bending", "wall contact", "friction", "end loads"};
+
+    const double omega2 = 4.0 * k1 / mass + 16.0 * k2 / (mass * l0 * l0) +
+                          (4.0 + 4.0 * fr.tangential_stiffness_ratio) * kn / mass;
+    const double dt = scene.discrete.time_step > 0.0
+                          ? scene.discrete.time_step
+                          : scene.discrete.time_step_factor * 2.0 / std::sqrt(omega2);
+
+    const std::filesystem::path dir(scene.output.directory);
+    std::filesystem::create_directories(dir);
+    std::cout << fmt::format("wirefem: scene {} (capstan, discrete model), r = {}, wrap angle {:.6f} rad "
+                             "({} frictional nodes of {} segments), mu_st = {}, mu_d = {}, {} control\n",
+                             scene.name, scene.cavity.radius, result.wrap_angle, m, n,
+                             fr.wall_static_coefficient, fr.wall_dynamic_coefficient,
+                             velocity ? "velocity" : "force")
+              << fmt::format(
+                     "dt = {:.4g}\nactive effects: stretching, bending, wall contact, friction, end loads\n"
+                     "output: {}",
+                     dt, dir.string())
+              << std::endl;
+
+    // The pushed distance s(t) of velocity control: speed ramped linearly.
+    const auto pushed = [&](const double t) {
+      const double tr = cs.ramp_time;
+      return t < tr ? 0.5 * cs.speed * t * t / tr : cs.speed * (t - 0.5 * tr);
+    };
+    const auto push_speed = [&](const double t) {
+      return t < cs.ramp_time ? cs.speed * t / cs.ramp_time : cs.speed;
+    };
+    const double t_end = velocity ? (cs.slide >= 0.5 * cs.speed * cs.ramp_time
+                                         ? cs.slide / cs.speed + 0.5 * cs.ramp_time
+                                         : std::sqrt(2.0 * cs.slide * cs.ramp_time / cs.speed))
+                                  : cs.maximum_time;
+    // Arc distance the leading end moved (clockwise positive).
+    const auto lead_slide = [&]() {
+      return Rc * (std::atan2(x0[n].y, x0[n].x) - std::atan2(c.x[n].y, c.x[n].x));
+    };
+    const auto compression = [&](const int k) { return k1 * (l0 - norm(c.x[k + 1] - c.x[k])); };
+    const int measured = velocity ? 1 : 0; // the segment where the wire leaves the pushed end
+
+    std::ofstream series(dir / "series.csv");
+    series << "time,pushed,lead_slide,push_force,trailing_compression\n";
+    const double output_interval = velocity ? 0.5 : 1.0;
+    double next_output = 0.0, t = 0.0, force_sum = 0.0, force_time = 0.0, peak = 0.0;
+    discrete::StepEnergy e;
+    bool slipped = false;
+    std::vector<double> profile_sum(n, 0.0);
+    while (t <= cs.maximum_time)
+      {
+        // The end loads rise over the ramp time (with the speed), so no axial
+        // wave is started; under force control the push then keeps rising.
+        const double ramp = t < cs.ramp_time ? t / cs.ramp_time : 1.0;
+        lead->set_thrust(cs.end_force * ramp);
+        if (velocity)
+          {
+            const double psi = pushed(t) / Rc, omega = push_speed(t) / Rc;
+            for (int k = 0; k < 2; ++k)
+              {
+                const double a = std::atan2(x0[k].y, x0[k].x) - psi;
+                c.x[k] = on_circle(Rc, a);
+                c.v[k] = omega * Rc * Vec2{std::sin(a), -std::cos(a)};
+              }
+          }
+        else
+          push->set_thrust(cs.end_force * (ramp + cs.force_rate * std::max(0.0, t - cs.ramp_time)));
+        std::fill(c.f.begin(), c.f.end(), Vec2{});
+        std::fill(c.contact_force.begin(), c.contact_force.end(), 0.0);
+        e = discrete::StepEnergy{};
+        for (auto &term : terms)
+          term->add_forces(c, dt, e);
+        const double p = velocity ? compression(measured) : push->get_thrust();
+        if (!std::isfinite(p))
+          break;
+        peak = std::max(peak, compression(measured));
+        if (velocity && t >= 0.5 * (cs.ramp_time + t_end))
+          {
+            force_sum += p * dt;
+            force_time += dt;
+            for (int k = 0; k < n; ++k)
+              profile_sum[k] += compression(k) * dt;
+          }
+        if (t >= next_output)
+          {
+            series << fmt::format("{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", t, velocity ? pushed(t) : 0.0,
+                                  lead_slide(), p, compression(measured));
+            next_output += output_interval;
+          }
+        if (velocity && t >= t_end)
+          {
+            result.finished = true;
+            break;
+          }
+        if (!velocity && lead_slide() >= cs.slip_distance)
+          {
+            result.onset_force = p;
+            result.finished = slipped = true;
+            break;
+          }
+        // Semi-implicit Euler (the injection scenes' scheme) on the free nodes.
+        for (int k = first_free; k <= n; ++k)
+          {
+            c.v[k] += (dt / mass) * c.f[k];
+            c.x[k] += dt * c.v[k];
+          }
+        for (auto &term : terms)
+          term->commit();
+        t += dt;
+        ++result.steps;
+      }
+    if (velocity && force_time > 0.0)
+      result.push_force = force_sum / force_time;
+    result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+    {
+      // Compression along the wire (velocity control: averaged over the time
+      // the push force is; force control: at the slip), against the angle
+      // from the midpoint of the last segment, where the leading end's load
+      // enters the friction.
+      std::ofstream profile(dir / "profile.csv");
+      profile << "segment,angle,compression\n";
+      for (int k = 0; k < n; ++k)
+        profile << fmt::format("{},{:.17g},{:.17g}\n", k, (n - 1 - k) * zeta,
+                               velocity && force_time > 0.0 ? profile_sum[k] / force_time : compression(k));
+    }
+
+    // References: the continuum capstan law over the wrap angle, and the
+    // chain's own statics (each frictional node multiplies the compression
+    // by (1 + mu tan(zeta/2)) / (1 - mu tan(zeta/2))).
+    const auto chain_law = [&](const double mu) {
+      return cs.end_force *
+             std::pow((1.0 + mu * std::tan(0.5 * zeta)) / (1.0 - mu * std::tan(0.5 * zeta)), m);
+    };
+    nlohmann::json j;
+    j["setup"] = "capstan";
+    j["model"] = "discrete";
+    j["control"] = velocity ? "velocity" : "force";
+    j["finished"] = result.finished;
+    j["wrap_angle"] = result.wrap_angle;
+    j["frictional_nodes"] = m;
+    j["segments"] = n;
+    j["segment_length"] = l0;
+    j["turning_angle"] = zeta;
+    j["end_force"] = cs.end_force;
+    j["mu_static"] = fr.wall_static_coefficient;
+    j["mu_dynamic"] = fr.wall_dynamic_coefficient;
+    j["push_force"] = result.push_force;
+    j["push_force_peak"] = peak;
+    j["onset_force"] = result.onset_force;
+    j["capstan_dynamic"] = cs.end_force * std::exp(fr.wall_dynamic_coefficient * result.wrap_angle);
+    j["capstan_static"] = cs.end_force * std::exp(fr.wall_static_coefficient * result.wrap_angle);
+    j["chain_dynamic"] = chain_law(fr.wall_dynamic_coefficient);
+    j["chain_static"] = chain_law(fr.wall_static_coefficient);
+    j["max_penetration"] = e.max_penetration;
+    j["time"] = t;
+    j["time_step"] = dt;
+    j["steps"] = result.steps;
+    j["wall_time_s"] = result.wall_time_s;
+    j["active_effects"] = effects;
+    const auto tmp = dir / "summary.json.tmp";
+    std::ofstream(tmp.string()) << j.dump(2) << '\n';
+    std::filesystem::rename(tmp, dir / "summary.json");
+
+    if (!result.finished)
+      std::cerr << fmt::format(
+          "wirefem: error: the capstan run did not end by Capstan/Maximum time = {:g}{}\n", cs.maximum_time,
+          slipped ? "" : " (the wire never slipped)");
+    else if (velocity)
+      std::cout << fmt::format(
+          "finished: pushed {:g} d; push force {:.10g} (capstan law T0 exp(mu_d angle) = "
+          "{:.10g}), {} steps, {:.2f} s\n",
+          cs.slide, result.push_force, j["capstan_dynamic"].get<double>(), result.steps, result.wall_time_s);
+    else
+      std::cout << fmt::format("finished: slipped at push force {:.10g} (capstan law T0 exp(mu_st angle) = "
+                               "{:.10g}), {} steps, {:.2f} s\n",
+                               result.onset_force, j["capstan_static"].get<double>(), result.steps,
+                               result.wall_time_s);
+    return result;
+  }
+} // namespace wirefem::simulation

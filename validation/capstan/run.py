@@ -1,0 +1,156 @@
+#!/usr/bin/python3
+"""Validation case 5: friction along the cavity wall, the capstan law
+(capstan.prm, Set-up = capstan, discrete model).
+
+A wire on the wall, compressed by N, presses on it with N kappa per length
+(its curvature kappa = 1/R_c is constant and the end moments hold it, so
+bending adds no distributed force). Sliding against Coulomb friction, dN/ds =
+mu N kappa, so the compression grows over a wrap angle Theta from the end
+force T0 to
+
+    T0 exp(mu Theta)                                  (continuum)
+    T0 ((1 + mu tan(zeta/2)) / (1 - mu tan(zeta/2)))^m (the chain's statics:
+                                                       m frictional nodes,
+                                                       each turning by zeta)
+
+which differ by O(zeta^2); both are computed here from the run's geometry.
+
+- Steady sliding (velocity control, mu_d = 0.8 mu_st): the push force, the
+  compression where the wire leaves the pushed end averaged over the second
+  half of the sliding, against T0 exp(mu_d Theta), for wrap angles pi/4,
+  pi/2, 3 pi/4 at lambda_0 = 1, 0.5, 0.25, and for mu_st = 0.1, 0.5 at pi/2.
+- Stick/slip threshold (force control): the push force rises slowly until
+  the leading end slips. With mu_d = mu_st it must be T0 exp(mu Theta); with
+  mu_d < mu_st it lies between the dynamic and the static value (the slip
+  front runs from the pushed end on dynamic friction).
+
+Tolerance: 1e-2 relative on each force (the capstan law is exponential in
+mu Theta, so 1% of force is 1% of friction work). No order in lambda_0 is
+asserted: the chain's own statics is within 1e-4 of the continuum at
+lambda_0 = 1 here, below what the sliding dynamics resolve.
+
+    validation/capstan/run.py WIREFEM OUTDIR
+"""
+import csv
+import math
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+import study  # noqa: E402
+
+PRM = os.path.join(HERE, "capstan.prm")
+TOL = 1e-2
+WRAPS = (math.pi / 4, math.pi / 2, 3 * math.pi / 4)
+LENGTHS = (1.0, 0.5, 0.25)
+
+
+def friction(mu_st, mu_d):
+    return [f"Contact/Friction/Wall static coefficient={mu_st!r}",
+            f"Contact/Friction/Wall dynamic coefficient={mu_d!r}"]
+
+
+def continuum(s, mu):
+    return s["end_force"] * math.exp(mu * s["wrap_angle"])
+
+
+def main():
+    wirefem, outdir = sys.argv[1], sys.argv[2]
+    os.makedirs(outdir, exist_ok=True)
+    failures, cases = [], []
+
+    # Steady sliding.
+    plan = [(w, 0.3, LENGTHS) for w in WRAPS] + [(math.pi / 2, mu, (1.0,)) for mu in (0.1, 0.5)]
+    for wrap, mu_st, lengths in plan:
+        mu_d = 0.8 * mu_st
+        label = f"sliding, wrap {wrap:.4f}, mu_d {mu_d:g}"
+        rows = []
+        for h in lengths:
+            out = os.path.join(outdir, f"slide_{wrap:.4f}_{mu_st:g}_{h:g}")
+            s = study.run(wirefem, PRM, [f"Capstan/Wrap angle={wrap!r}", f"Discrete/Segment length={h!r}"]
+                          + friction(mu_st, mu_d), out)
+            ref = continuum(s, mu_d)
+            row = {"h": h, "wrap_angle": s["wrap_angle"], "push_force": s["push_force"], "reference": ref,
+                   "chain_law": s["chain_dynamic"], "error_force": abs(s["push_force"] / ref - 1.0),
+                   "chain_error": abs(s["push_force"] / s["chain_dynamic"] - 1.0),
+                   "wall_time_s": s["wall_time_s"]}
+            rows.append(row)
+            if not s["finished"] or row["error_force"] > TOL:
+                failures.append(f"{label}, lambda_0 = {h:g}: push force {s['push_force']:.6g} against "
+                                f"T0 exp(mu_d Theta) = {ref:.6g} (relative error {row['error_force']:.2e} > {TOL:g})")
+        cases.append({"model": "discrete", "case": label, "control": "velocity", "mu_static": mu_st,
+                      "mu_dynamic": mu_d, "rows": rows})
+        print(label)
+        for r in rows:
+            print(f"  lambda_0 = {r['h']:<5} Theta = {r['wrap_angle']:.5f}: push force {r['push_force']:.6f}, "
+                  f"T0 exp(mu_d Theta) = {r['reference']:.6f} (error {r['error_force']:.2e}), chain law "
+                  f"{r['chain_law']:.6f} (error {r['chain_error']:.2e}), {r['wall_time_s']:.1f} s")
+
+    # Stick/slip threshold.
+    for wrap in (math.pi / 4, 3 * math.pi / 4):
+        for mu_st, mu_d in ((0.3, 0.3), (0.3, 0.24)):
+            label = f"slip onset, wrap {wrap:.4f}, mu_st {mu_st:g}, mu_d {mu_d:g}"
+            out = os.path.join(outdir, f"onset_{wrap:.4f}_{mu_d:g}")
+            s = study.run(wirefem, PRM, ["Capstan/Control=force", "Capstan/Slip distance=0.01",
+                                         f"Capstan/Wrap angle={wrap!r}"] + friction(mu_st, mu_d), out)
+            static, dynamic = continuum(s, mu_st), continuum(s, mu_d)
+            onset = s["onset_force"]
+            row = {"h": 1.0, "wrap_angle": s["wrap_angle"], "onset_force": onset, "reference": static,
+                   "dynamic_reference": dynamic, "error_force": abs(onset / static - 1.0),
+                   "wall_time_s": s["wall_time_s"]}
+            if mu_d == mu_st:
+                ok = s["finished"] and row["error_force"] <= TOL
+                what = f"T0 exp(mu Theta) = {static:.6g} within {TOL:g}"
+            else:
+                ok = s["finished"] and dynamic * (1 - TOL) <= onset <= static * (1 + TOL)
+                what = f"between T0 exp(mu_d Theta) = {dynamic:.6g} and T0 exp(mu_st Theta) = {static:.6g}"
+            if not ok:
+                failures.append(f"{label}: onset force {onset:.6g}, expected {what}")
+            cases.append({"model": "discrete", "case": label, "control": "force", "mu_static": mu_st,
+                          "mu_dynamic": mu_d, "asserted": "equal" if mu_d == mu_st else "between",
+                          "rows": [row]})
+            print(f"{label}: slipped at {onset:.6f}; T0 exp(mu_st Theta) = {static:.6f}, "
+                  f"T0 exp(mu_d Theta) = {dynamic:.6f}, {s['wall_time_s']:.1f} s")
+
+    study.write(outdir, {"validation": "capstan", "end_force": 1.0, "radius": 25.0, "tolerance": {"error_force": TOL},
+                         "cases": cases, "failures": failures})
+    plot(cases, outdir)
+    return 1 if failures else 0
+
+
+def plot(cases, outdir):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5))
+    # The compression along the wire at the end of one sliding run.
+    with open(os.path.join(outdir, f"slide_{math.pi / 2:.4f}_0.3_1", "profile.csv")) as f:
+        prof = [(float(r["angle"]), float(r["compression"])) for r in csv.DictReader(f)][1:]
+    th = [p[0] for p in prof]
+    a.plot(th, [p[1] for p in prof], "o", ms=3, label="discrete, lambda_0 = 1 (time average)")
+    a.plot(th, [math.exp(0.24 * t) for t in th], "k-", label="T0 exp(mu_d theta)")
+    a.set_xlabel("angle from the leading end (rad)")
+    a.set_ylabel("compression / T0")
+    a.set_title("Capstan: compression along the wire (mu_d = 0.24)")
+    a.legend(fontsize=8)
+    for c in cases:
+        for r in c["rows"]:
+            if c["control"] == "velocity":
+                ratio = r["push_force"] / r["reference"]
+                b.plot(c["mu_dynamic"] * r["wrap_angle"], ratio, "o", color="C0", ms=4 + 2 * math.log2(1 / r["h"]))
+            else:
+                b.plot(c["mu_static"] * r["wrap_angle"], r["onset_force"] / r["reference"],
+                       "s" if c["mu_dynamic"] == c["mu_static"] else "v", color="C1", ms=6)
+    b.axhline(1.0, color="k", lw=0.8)
+    b.axhspan(1 - TOL, 1 + TOL, color="0.9")
+    b.set_xlabel("mu Theta")
+    b.set_ylabel("measured / T0 exp(mu Theta)")
+    b.set_title("sliding (o, size ~ 1/lambda_0), slip onset (s: mu_d = mu_st, v: mu_d < mu_st)")
+    b.title.set_fontsize(8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "convergence.png"), dpi=100)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
