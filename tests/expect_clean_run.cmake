@@ -1,5 +1,5 @@
 # Runs EXE PRM --set SETTING [--set MODEL] and expects exit 0 and summary.json
-# "failed": false. MODEL (optional) is a second setting such as Model=fem.
+# "failed": false. MODEL (optional) is a second setting, such as Model=fem.
 set(extra)
 if(MODEL)
   set(extra --set ${MODEL})

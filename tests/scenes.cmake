@@ -81,6 +81,10 @@ add_test(NAME validation.capstan
          COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/capstan/run.py ${WIREFEM_EXE}
                  ${CMAKE_BINARY_DIR}/validation/capstan)
 set_tests_properties(validation.capstan PROPERTIES LABELS validation TIMEOUT 3600)
+add_test(NAME validation.continuum
+         COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/continuum/run.py ${WIREFEM_EXE}
+                 ${CMAKE_BINARY_DIR}/validation/continuum)
+set_tests_properties(validation.continuum PROPERTIES LABELS validation TIMEOUT 3600)
 
 # Hard cases: each runs to its end (jamming or the maximum density) without a
 # numerical stop. summary.json must say failed = false (checked by the script).
@@ -98,6 +102,13 @@ foreach(case "mu5;Contact/Friction/Static coefficient=5"
                    -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
   set_tests_properties(scene.hard_case_${name} PROPERTIES LABELS "regression;stress")
 endforeach()
+# A fine chain (lambda_0 = d/16), where the rotational dashpot, not the
+# stiffness, limits the explicit step; up to phi = 0.07 (just past buckling).
+add_test(NAME scene.hard_case_fine_chain
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
+                 "-DSETTING=Discrete/Segment length=0.0625" "-DMODEL=Injection/Maximum packing density=0.07"
+                 -DOUT=${SCENE_OUT}/hard_fine_chain -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+set_tests_properties(scene.hard_case_fine_chain PROPERTIES LABELS "regression;stress")
 
 # The rod FEM on the quick scene, and its hard cases (SPEC 3, issue list):
 # each runs to its end, with the adaptive step recovering from Newton failures.

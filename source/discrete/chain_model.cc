@@ -108,8 +108,12 @@ namespace wirefem::discrete
       omega2 += 4.0 * kn / mass;
     effects.push_back("inertia");
 
-    dt = scene.discrete.time_step > 0.0 ? scene.discrete.time_step
-                                        : scene.discrete.time_step_factor * 2.0 / std::sqrt(omega2);
+    const auto &dd = scene.discrete;
+    dt = dd.time_step > 0.0 ? dd.time_step
+                            : explicit_time_step(dd.time_step_factor, omega2,
+                                                 dashpot_rate(mass, lambda0, dd.axial_damping,
+                                                              bending ? dd.rotational_damping : 0.0,
+                                                              dd.translational_damping));
 
     // The perturbed initial wire is not stress free: its energy is energy in.
     // Where it is bent beyond yield it starts plastically pre-bent (the

@@ -95,9 +95,13 @@ namespace wirefem::simulation
 
     const double omega2 = 4.0 * k1 / mass + 16.0 * k2 / (mass * l0 * l0) +
                           (4.0 + 4.0 * fr.tangential_stiffness_ratio) * kn / mass;
-    const double dt = scene.discrete.time_step > 0.0
-                          ? scene.discrete.time_step
-                          : scene.discrete.time_step_factor * 2.0 / std::sqrt(omega2);
+    const auto &dd = scene.discrete;
+    const double dt = dd.time_step > 0.0
+                          ? dd.time_step
+                          : discrete::explicit_time_step(dd.time_step_factor, omega2,
+                                                         discrete::dashpot_rate(mass, l0, dd.axial_damping,
+                                                                                dd.rotational_damping,
+                                                                                dd.translational_damping));
 
     const std::filesystem::path dir(scene.output.directory);
     std::filesystem::create_directories(dir);

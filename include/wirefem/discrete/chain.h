@@ -11,6 +11,8 @@
 #include <wirefem/geometry/vec2.h>
 
 #include <iosfwd>
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace wirefem::discrete
@@ -39,6 +41,27 @@ namespace wirefem::discrete
     int n_active() const { return last - first; }
     bool is_free(const int k) const { return k >= first + n_prescribed && k < last - n_prescribed; }
   };
+
+  /// The explicit time step: a fraction `factor` of the stability limit.
+  /// omega2 bounds the squared highest frequency of the springs; `rate`
+  /// the highest decay rate c/m of the dashpots, which must satisfy
+  /// rate dt < 2 on their own. The rotational dashpot's rate,
+  /// 16 c_r / (m lambda_0^2), grows like 1/lambda_0^3, faster than the
+  /// bending frequency, so it sets the step on fine chains (at lambda_0 =
+  /// 1/16 d with c_r = 0.5 the stiffness limit alone let runs blow up).
+  inline double explicit_time_step(const double factor, const double omega2, const double rate)
+  {
+    return factor * 2.0 / std::max(std::sqrt(omega2), rate);
+  }
+
+  /// The highest decay rate of the dashpots of a chain of node mass m and
+  /// segment length lambda_0: axial c_a, rotational c_r, translational
+  /// gamma (-gamma m v).
+  inline double dashpot_rate(const double mass, const double lambda0, const double axial,
+                             const double rotational, const double translational)
+  {
+    return 4.0 * axial / mass + 16.0 * rotational / (mass * lambda0 * lambda0) + translational;
+  }
 
   /// What the force terms of one step report: potential energies at the
   /// current state and the increments of dissipated work over the step.
