@@ -28,6 +28,8 @@ CASES = [
           "validation/README.md, figures/spiral_force.png)", None),
     ("7", "Mesh convergence: FEM p = 1, 2, 3 and discrete lambda_0 (on cases 1-3)", "cantilever"),
     ("8", "Continuum cross-check on the injection scene (injection work against L, both models)", "continuum"),
+    ("-", "Work-precision of the injection statistics (measured: validation/README.md, "
+          "figures/injection_statistics.png)", None),
 ]
 TITLES = {"cantilever": "Cantilever (cases 1, 2; convergence of case 7)",
           "plastic_cycles": "Elastoplastic bending cycles (case 4)",

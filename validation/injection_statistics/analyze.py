@@ -1,0 +1,100 @@
+#!/usr/bin/python3
+"""Work-precision of the injection statistics (measured, not asserted): how
+much phi at jamming and the loop count at fixed phi move when the time step
+or the injection speed changes, against how much they scatter between
+realizations (seeds), and what each setting costs.
+
+The runs are the classic scene at f = 25 (`wirefem prm/classic.prm --set
+Cavity/Radius=25 --set Injection/Speed=V --set "Discrete/Time step
+factor=F" --set Injection/Seed=S`), one directory per run named
+v<V>_f<F>_s<S>; run.sh next to this file makes them.
+
+    validation/injection_statistics/analyze.py OUTDIR RUNS_DIR
+"""
+import csv
+import json
+import math
+import os
+import re
+import sys
+
+PHIS = (0.2, 0.3, 0.4)
+
+
+def loops_at(rows, phi):
+    best = min(rows, key=lambda r: abs(r["phi"] - phi))
+    return best["loops"] if abs(best["phi"] - phi) < 0.01 else float("nan")
+
+
+def mean_std(xs):
+    xs = [x for x in xs if not math.isnan(x)]
+    if not xs:
+        return float("nan"), float("nan")
+    m = sum(xs) / len(xs)
+    s = math.sqrt(sum((x - m) ** 2 for x in xs) / (len(xs) - 1)) if len(xs) > 1 else float("nan")
+    return m, s
+
+
+def main():
+    outdir, runs_dir = sys.argv[1], sys.argv[2]
+    os.makedirs(outdir, exist_ok=True)
+    groups = {}
+    for name in sorted(os.listdir(runs_dir)):
+        m = re.fullmatch(r"v([0-9.]+)_f([0-9.]+)_s(\d+)", name)
+        path = os.path.join(runs_dir, name)
+        if not m or not os.path.exists(os.path.join(path, "summary.json")):
+            continue
+        with open(os.path.join(path, "summary.json")) as f:
+            s = json.load(f)
+        with open(os.path.join(path, "series.csv")) as f:
+            rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+        key = (float(m.group(1)), float(m.group(2)))
+        groups.setdefault(key, []).append({
+            "seed": int(m.group(3)), "phi_final": s["phi_final"], "jammed": s["jammed"],
+            "loops": {f"{p:g}": loops_at(rows, p) for p in PHIS}, "wall_time_s": s["wall_time_s"],
+            "steps": s["steps"], "balance_error": s["energy"]["balance_error"],
+            "curvature_ratio": s.get("curvature_ratio"), "symmetry": s.get("symmetry")})
+    table = []
+    print("speed  dt factor  runs  phi_jam (mean +- sd)   " +
+          "  ".join(f"loops@{p:g}" for p in PHIS) + "   wall time (median)")
+    for (speed, factor), runs in sorted(groups.items(), key=lambda kv: (-kv[0][0], -kv[0][1])):
+        phi = mean_std([r["phi_final"] for r in runs])
+        loops = {p: mean_std([r["loops"][f"{p:g}"] for r in runs]) for p in PHIS}
+        times = sorted(r["wall_time_s"] for r in runs)
+        median = times[len(times) // 2] if len(times) % 2 else 0.5 * sum(times[len(times) // 2 - 1:len(times) // 2 + 1])
+        table.append({"speed": speed, "time_step_factor": factor, "runs": runs, "phi_jam": phi,
+                      "loops": {f"{p:g}": loops[p] for p in PHIS}, "median_wall_time_s": median})
+        print(f"{speed:5g}  {factor:9g}  {len(runs):4d}  {phi[0]:.4f} +- {phi[1]:.4f}        " +
+              "  ".join(f"{loops[p][0]:5.1f}+-{loops[p][1]:4.1f}" for p in PHIS) + f"   {median:.0f} s")
+    with open(os.path.join(outdir, "results.json"), "w") as f:
+        json.dump({"study": "injection_statistics", "asserted": False, "groups": table}, f, indent=2)
+    plot(table, os.path.join(outdir, "injection_statistics.png"))
+
+
+def plot(table, filename):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5))
+    for i, g in enumerate(table):
+        label = f"speed {g['speed']:g}, dt factor {g['time_step_factor']:g}"
+        t = [r["wall_time_s"] for r in g["runs"]]
+        a.plot(t, [r["phi_final"] for r in g["runs"]], "o", color=f"C{i}", label=label)
+        sd = g["phi_jam"][1] if not math.isnan(g["phi_jam"][1]) else 0.0
+        a.errorbar([g["median_wall_time_s"]], [g["phi_jam"][0]], yerr=[sd], fmt="s", color=f"C{i}",
+                   capsize=4, ms=8, mfc="none")
+        b.plot(t, [r["loops"]["0.3"] for r in g["runs"]], "o", color=f"C{i}", label=label)
+    a.set_xlabel("wall time (s)")
+    a.set_ylabel("phi at jamming")
+    a.set_title("classic, f = 25: phi at jamming (dots: seeds; squares: mean +- sd)")
+    a.title.set_fontsize(9)
+    a.legend(fontsize=7)
+    b.set_xlabel("wall time (s)")
+    b.set_ylabel("loops at phi = 0.3")
+    b.set_title("loops at phi = 0.3")
+    fig.tight_layout()
+    fig.savefig(filename, dpi=100)
+
+
+if __name__ == "__main__":
+    main()
