@@ -65,26 +65,14 @@ set_tests_properties(scene.cantilever_fem_runs PROPERTIES LABELS regression
 # Validation studies (ctest -L validation; validation/README.md). Debian's
 # python3 (numpy, scipy, matplotlib), whatever python3 comes first on PATH.
 find_program(WIREFEM_PYTHON python3 PATHS /usr/bin NO_DEFAULT_PATH)
-add_test(NAME validation.cantilever
-         COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/cantilever/run.py ${WIREFEM_EXE}
-                 ${CMAKE_BINARY_DIR}/validation/cantilever)
-set_tests_properties(validation.cantilever PROPERTIES LABELS validation TIMEOUT 1800)
-add_test(NAME validation.buckling
-         COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/buckling/run.py ${WIREFEM_EXE}
-                 ${CMAKE_BINARY_DIR}/validation/buckling)
-set_tests_properties(validation.buckling PROPERTIES LABELS validation TIMEOUT 3600)
-add_test(NAME validation.plastic_cycles
-         COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/plastic_cycles/run.py ${WIREFEM_EXE}
-                 ${CMAKE_BINARY_DIR}/validation/plastic_cycles)
-set_tests_properties(validation.plastic_cycles PROPERTIES LABELS validation TIMEOUT 3600)
-add_test(NAME validation.capstan
-         COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/capstan/run.py ${WIREFEM_EXE}
-                 ${CMAKE_BINARY_DIR}/validation/capstan)
-set_tests_properties(validation.capstan PROPERTIES LABELS validation TIMEOUT 3600)
-add_test(NAME validation.continuum
-         COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/continuum/run.py ${WIREFEM_EXE}
-                 ${CMAKE_BINARY_DIR}/validation/continuum)
-set_tests_properties(validation.continuum PROPERTIES LABELS validation TIMEOUT 3600)
+foreach(study "cantilever;1800" "buckling;3600" "plastic_cycles;3600" "capstan;3600" "continuum;3600")
+  list(GET study 0 name)
+  list(GET study 1 timeout)
+  add_test(NAME validation.${name}
+           COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/validation/${name}/run.py ${WIREFEM_EXE}
+                   ${CMAKE_BINARY_DIR}/validation/${name})
+  set_tests_properties(validation.${name} PROPERTIES LABELS validation TIMEOUT ${timeout})
+endforeach()
 
 # Hard cases: each runs to its end (jamming or the maximum density) without a
 # numerical stop. summary.json must say failed = false (checked by the script).
