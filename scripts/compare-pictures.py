@@ -4,6 +4,10 @@ with phi and the loops and morphology `wirefem analyze` finds.
 
     scripts/compare-pictures.py [--radius=R] WIREFEM OUT.png LABEL=DIR,DIR,... [LABEL=DIR,...]
 
+A DIR may be written TITLE::DIR to head its caption with TITLE instead of
+the scene name. Captions give phi, loops, morphology, the curvature ratio
+A/B and the symmetry score.
+
 --radius gives the cavity radius of runs whose summary.json does not
 record it (runs of older versions).
 
@@ -32,12 +36,13 @@ def main():
     exe, out = args[0], args[1]
     rows = [(a.partition("=")[0], a.partition("=")[2].split(",")) for a in args[2:]]
     cols = max(len(dirs) for _, dirs in rows)
-    img = Image.new("RGB", (cols * SIZE + 70, len(rows) * (SIZE + 18)), "white")
+    img = Image.new("RGB", (cols * SIZE + 70, len(rows) * (SIZE + 30)), "white")
     draw = ImageDraw.Draw(img)
     for r, (label, dirs) in enumerate(rows):
-        y0 = r * (SIZE + 18)
+        y0 = r * (SIZE + 30)
         draw.text((8, y0 + SIZE // 2), label, fill="black")
-        for c, run in enumerate(dirs):
+        for c, entry in enumerate(dirs):
+            title, _, run = entry.rpartition("::")
             summary = json.load(open(f"{run}/summary.json"))
             radius = summary.get("cavity_radius", fallback_radius)
             cmd = [exe, "analyze", run] + (["--radius", str(radius)] if radius else [])
@@ -49,8 +54,9 @@ def main():
             picture = picture.crop((0, 0, w, int(h * 0.955))).resize((SIZE, int(SIZE * 0.955)))
             img.paste(picture, (70 + c * SIZE, y0))
             draw.text((80 + c * SIZE, y0 + int(SIZE * 0.955) + 2),
-                      f"{summary.get('scene', '')}  phi={summary['phi_final']:.3f}  "
-                      f"loops={shape['loops']}  {shape['morphology']}", fill="black")
+                      f"{title or summary.get('scene', '')}  phi={summary['phi_final']:.3f}  "
+                      f"loops={shape['loops']}  {shape['morphology']}\n"
+                      f"A/B={shape['curvature_ratio']:.2f}  symmetry={shape['symmetry']:.2f}", fill="black")
     img.save(out, optimize=True)
     print(out)
 

@@ -4,6 +4,7 @@
 // slenderness 1e4, friction stick and slip, Newton convergence and the
 // energy balance of a small run.
 #include <wirefem/fem/cantilever.h>
+#include <wirefem/fem/capstan.h>
 #include <wirefem/fem/contact_element.h>
 #include <wirefem/fem/rod_element.h>
 #include <wirefem/fem/rod_model.h>
@@ -443,6 +444,43 @@ namespace
     EXPECT_LT(std::abs(e.balance_error()), 0.01) << "in " << e.initial + e.injection_work;
     EXPECT_LT(m.report().max_penetration, 0.1);
   }
+  TEST(FemCapstan, AssembledTangentIsTheDerivativeOfTheAssembledResidual)
+  {
+    // Full end force from the first step (no ramp), so the follower force,
+    // the end moment, the friction and the trailing end's rotated radial
+    // dof all enter the compared tangent.
+    const auto s =
+        scene::read_scene("", {"Set-up=capstan", "Model=fem", "Cavity/Radius=25",
+                               "Wire/Plasticity/Enabled=false", "Capstan/End force=10", "Capstan/Ramp time=0",
+                               "Capstan/Slide=0.5", "Contact/Friction/Wall static coefficient=0.3",
+                               "Contact/Friction/Wall dynamic coefficient=0.24"});
+    double tangent_error = 1.0;
+    const auto r = fem::solve_capstan(s, &tangent_error);
+    ASSERT_TRUE(r.finished);
+    // Central differences reach 2.5e-8 here; a missing follower-force term
+    // gives 2.4e-3.
+    EXPECT_LT(tangent_error, 1e-6);
+  }
+
+  TEST(FemCapstan, SlidingFollowsTheCapstanLaw)
+  {
+    // A nearly inextensible rod (EA = 1e5) on the wall over pi/2, slid
+    // against T0 = 1: its push force is T0 exp(mu_V Theta), with mu_V the
+    // regularised law's coefficient at the push speed.
+    const auto s =
+        scene::read_scene("", {"Set-up=capstan", "Model=fem", "Cavity/Radius=25",
+                               "Wire/Plasticity/Enabled=false", "Wire/Axial stiffness=1e5",
+                               "FEM/Element length=0.25", "Contact/Friction/Wall static coefficient=0.3",
+                               "Contact/Friction/Wall dynamic coefficient=0.24"});
+    const auto r = fem::solve_capstan(s);
+    ASSERT_TRUE(r.finished);
+    EXPECT_NEAR(r.wrap_angle, 0.5 * M_PI, 1e-12);
+    const double x = 0.05 / 0.01, mu = (0.24 + 0.06 * std::exp(-x)) * std::tanh(x);
+    EXPECT_NEAR(r.sliding_coefficient, mu, 1e-15);
+    EXPECT_NEAR(r.push_force / std::exp(mu * r.wrap_angle), 1.0, 2e-6); // 4.5e-7 measured (O(h^2))
+    EXPECT_EQ(r.step_cuts, 0u);
+  }
+
   TEST(FemCantilever, PastTheEulerLoadNewtonKeepsToTheStableBranchOfTheImperfection)
   {
     // Half of a pinned-pinned rod at 1.5 and 3 times the Euler load, with a

@@ -47,8 +47,16 @@ wirefem_bad_input(${CMAKE_SOURCE_DIR}/prm/quick.prm "radius|Cavity/Radius=-3"
 # The benchmark set-ups of validation/.
 wirefem_bad_input(${CMAKE_SOURCE_DIR}/validation/cantilever/moment.prm "cantilever_load_time|Cantilever/Load time=-1"
                   "cantilever_segments|Discrete/Segment length=0.3" "cantilever_length|Cantilever/Length=-1")
-wirefem_bad_input(${CMAKE_SOURCE_DIR}/validation/capstan/capstan.prm "capstan_model|Model=fem"
-                  "capstan_wrap|Capstan/Wrap angle=3.5" "capstan_slide|Capstan/Slide=0.5")
+wirefem_bad_input(${CMAKE_SOURCE_DIR}/validation/capstan/capstan.prm "capstan_wrap|Capstan/Wrap angle=3.5"
+                  "capstan_slide|Capstan/Slide=0.5")
+file(READ ${CMAKE_SOURCE_DIR}/validation/capstan/capstan.prm capstan_scene)
+file(WRITE ${CMAKE_BINARY_DIR}/capstan_fem.prm "${capstan_scene}\nset Model = fem\n")
+wirefem_bad_input(${CMAKE_BINARY_DIR}/capstan_fem.prm "capstan_fem_force|Capstan/Control=force")
+# The FEM's capstan through the executable (coarse: 19 elements).
+add_test(NAME scene.capstan_fem_runs
+         COMMAND ${WIREFEM_EXE} ${CMAKE_BINARY_DIR}/capstan_fem.prm "--set=FEM/Element length=2"
+                 --set Output/Directory=${SCENE_OUT}/capstan_fem)
+set_tests_properties(scene.capstan_fem_runs PROPERTIES LABELS regression PASS_REGULAR_EXPRESSION "finished: pushed")
 
 # A coarse cantilever (10 segments) relaxes to equilibrium through the executable.
 add_test(NAME scene.cantilever_runs

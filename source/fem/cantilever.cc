@@ -1,7 +1,7 @@
 #include <wirefem/fem/cantilever.h>
 #include <wirefem/fem/rod_element.h>
+#include <wirefem/fem/rod_numbering.h>
 
-#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
@@ -25,11 +25,8 @@ namespace wirefem::fem
     const unsigned int n_nodes = n_cells * p + 1;
     const unsigned int n_dofs = 3 * n_nodes;
 
-    // Node numbering along the rod: element c owns vertices c p and (c+1) p
-    // and the interior nodes in between (local order: vertices first).
-    auto global_node = [p](unsigned int c, unsigned int a) {
-      return a == 0 ? c * p : a == 1 ? (c + 1) * p : c * p + a - 1;
-    };
+    const RodNumbering numbering{p, n_cells};
+    auto global_node = [&numbering](unsigned int c, unsigned int a) { return numbering.node(c, a); };
     const auto shape = ElementShape::lagrange(p, h, p); // reduced integration, as the injection runs
 
     SectionProperties section;
@@ -62,23 +59,11 @@ namespace wirefem::fem
     for (unsigned int k = 0; k < n_nodes; ++k)
       u[3 * k] = S[k];
 
-    dealii::DynamicSparsityPattern dsp(n_dofs, n_dofs);
     const unsigned int nd = 3 * (p + 1);
     std::vector<unsigned int> local(nd);
-    auto local_dofs = [&](unsigned int c) {
-      for (unsigned int a = 0; a <= p; ++a)
-        for (unsigned int comp = 0; comp < 3; ++comp)
-          local[3 * a + comp] = 3 * global_node(c, a) + comp;
-    };
-    for (unsigned int c = 0; c < n_cells; ++c)
-      {
-        local_dofs(c);
-        for (const auto i : local)
-          for (const auto j : local)
-            dsp.add(i, j);
-      }
+    auto local_dofs = [&](unsigned int c) { numbering.cell_dofs(c, local); };
     dealii::SparsityPattern sparsity;
-    sparsity.copy_from(dsp);
+    numbering.make_sparsity(sparsity);
     dealii::SparseMatrix<double> K(sparsity);
     dealii::Vector<double> R(n_dofs), du(n_dofs);
 

@@ -138,7 +138,8 @@ namespace wirefem::scene
                 "'injection': the wire pushed into the cavity (the paper). 'cantilever': a benchmark of "
                 "validation/, a straight rod clamped at the origin and loaded at its free end "
                 "(Cantilever subsection). 'capstan': a benchmark of validation/, a wire on the cavity "
-                "wall pushed along it against an end force (Capstan subsection; discrete model).");
+                "wall pushed along it against an end force (Capstan subsection; the FEM under velocity "
+                "control only).");
       d.declare("Capstan/Wrap angle", "1.5707963267948966", any_double,
                 "Angle (rad) the frictional part of the wire covers on the wall, centred on the top of "
                 "the cavity; rounded to whole segments (summary.json has the angle used). At most 2.8.");
@@ -506,7 +507,9 @@ namespace wirefem::scene
       else if (s.setup == Setup::capstan)
         {
           const auto &cs = s.capstan;
-          check(s.model == ModelType::discrete, w, "Model", "Set-up = capstan runs the discrete model only");
+          check(s.model == ModelType::discrete || cs.velocity_control, w, "Capstan/Control",
+                "'force' runs the discrete model only (the FEM's regularised friction creeps below the "
+                "threshold velocity: it has no sharp slip onset to measure)");
           check(!s.plastic_bending(), w, "Wire/Plasticity/Enabled",
                 "Set-up = capstan bends the wire elastically to the wall: set it false");
           check(cs.wrap_angle > 0 && cs.wrap_angle <= 2.8, w, "Capstan/Wrap angle",

@@ -1,4 +1,5 @@
 #include <wirefem/discrete/terms.h>
+#include <wirefem/fem/capstan.h>
 #include <wirefem/simulation/capstan.h>
 
 #include <fmt/format.h>
@@ -22,10 +23,111 @@ namespace wirefem::simulation
     {
       return {radius * std::cos(angle), radius * std::sin(angle)};
     }
+
+    void write_summary(const std::filesystem::path &dir, const nlohmann::json &j)
+    {
+      const auto tmp = dir / "summary.json.tmp";
+      std::ofstream(tmp.string()) << j.dump(2) << '\n';
+      std::filesystem::rename(tmp, dir / "summary.json");
+    }
+
+    void report(const CapstanResult &result, const nlohmann::json &j, const scene::CapstanParameters &cs,
+                const bool slipped)
+    {
+      if (!result.finished)
+        std::cerr << fmt::format(
+            "wirefem: error: the capstan run did not end by Capstan/Maximum time = {:g}{}\n", cs.maximum_time,
+            slipped ? "" : " (the wire never slipped)");
+      else if (cs.velocity_control)
+        std::cout << fmt::format(
+            "finished: pushed {:g} d; push force {:.10g} (capstan law T0 exp(mu_d angle) = "
+            "{:.10g}), {} steps, {:.2f} s\n",
+            cs.slide, result.push_force, j["capstan_dynamic"].get<double>(), result.steps,
+            result.wall_time_s);
+      else
+        std::cout << fmt::format("finished: slipped at push force {:.10g} (capstan law T0 exp(mu_st angle) = "
+                                 "{:.10g}), {} steps, {:.2f} s\n",
+                                 result.onset_force, j["capstan_static"].get<double>(), result.steps,
+                                 result.wall_time_s);
+    }
+
+    /// The rod FEM's capstan (fem/capstan.h): velocity control, quasi-static.
+    CapstanResult run_capstan_fem(const scene::Scene &scene)
+    {
+      const auto wall_start = std::chrono::steady_clock::now();
+      const auto &cs = scene.capstan;
+      const auto &fr = scene.contact.friction;
+      const std::filesystem::path dir(scene.output.directory);
+      std::filesystem::create_directories(dir);
+      std::cout << fmt::format(
+                       "wirefem: scene {} (capstan, rod FEM, quasi-static), r = {}, mu_st = {}, mu_d = "
+                       "{}, velocity control\nactive effects: stretching, shear, bending, wall "
+                       "contact, friction, end loads\noutput: {}",
+                       scene.name, scene.cavity.radius, fr.wall_static_coefficient,
+                       fr.wall_dynamic_coefficient, dir.string())
+                << std::endl;
+      const auto sol = fem::solve_capstan(scene);
+      CapstanResult result;
+      result.finished = sol.finished;
+      result.wrap_angle = sol.wrap_angle;
+      result.segments = static_cast<int>(sol.elements);
+      result.push_force = sol.push_force;
+      result.steps = sol.steps;
+      result.wall_time_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      {
+        std::ofstream series(dir / "series.csv");
+        series << "time,pushed,lead_slide,push_force,trailing_compression\n";
+        for (const auto &r : sol.series)
+          series << fmt::format("{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", r[0], r[1], r[2], r[3], r[4]);
+        std::ofstream profile(dir / "profile.csv");
+        profile << "segment,angle,compression\n";
+        for (std::size_t k = 0; k < sol.profile.size(); ++k)
+          profile << fmt::format("{},{:.17g},{:.17g}\n", k, sol.profile[k][0], sol.profile[k][1]);
+      }
+      nlohmann::json j;
+      j["setup"] = "capstan";
+      j["model"] = "fem";
+      j["control"] = "velocity";
+      j["finished"] = result.finished;
+      j["description"] = sol.description;
+      j["wrap_angle"] = result.wrap_angle;
+      j["elements"] = sol.elements;
+      j["degree"] = scene.fem.degree;
+      j["element_length"] = scene.fem.element_length;
+      j["end_force"] = cs.end_force;
+      j["mu_static"] = fr.wall_static_coefficient;
+      j["mu_dynamic"] = fr.wall_dynamic_coefficient;
+      j["sliding_coefficient"] = sol.sliding_coefficient;
+      j["push_force"] = result.push_force;
+      j["push_force_peak"] = sol.push_force_peak;
+      j["capstan_dynamic"] = cs.end_force * std::exp(fr.wall_dynamic_coefficient * result.wrap_angle);
+      j["capstan_static"] = cs.end_force * std::exp(fr.wall_static_coefficient * result.wrap_angle);
+      j["capstan_sliding"] = cs.end_force * std::exp(sol.sliding_coefficient * result.wrap_angle);
+      j["max_penetration"] = sol.max_penetration;
+      j["time"] = sol.time;
+      j["time_step"] = sol.time_step;
+      j["steps"] = sol.steps;
+      j["newton_iterations"] = sol.newton_iterations;
+      j["step_cuts"] = sol.step_cuts;
+      j["wall_time_s"] = result.wall_time_s;
+      j["active_effects"] = {"stretching", "shear", "bending", "wall contact", "friction", "end loads"};
+      write_summary(dir, j);
+      if (!result.finished)
+        std::cerr << fmt::format(
+            "wirefem: error: the capstan run failed at t = {:g} (Newton did not converge "
+            "down to FEM/Minimum time step)\n",
+            sol.time);
+      else
+        report(result, j, cs, false);
+      return result;
+    }
   } // namespace
 
   CapstanResult run_capstan(const scene::Scene &scene)
   {
+    if (scene.model == scene::ModelType::fem)
+      return run_capstan_fem(scene);
     const auto wall_start = std::chrono::steady_clock::now();
     const auto &cs = scene.capstan;
     const auto &w = scene.wire;
@@ -253,24 +355,8 @@ namespace wirefem::simulation
     j["steps"] = result.steps;
     j["wall_time_s"] = result.wall_time_s;
     j["active_effects"] = effects;
-    const auto tmp = dir / "summary.json.tmp";
-    std::ofstream(tmp.string()) << j.dump(2) << '\n';
-    std::filesystem::rename(tmp, dir / "summary.json");
-
-    if (!result.finished)
-      std::cerr << fmt::format(
-          "wirefem: error: the capstan run did not end by Capstan/Maximum time = {:g}{}\n", cs.maximum_time,
-          slipped ? "" : " (the wire never slipped)");
-    else if (velocity)
-      std::cout << fmt::format(
-          "finished: pushed {:g} d; push force {:.10g} (capstan law T0 exp(mu_d angle) = "
-          "{:.10g}), {} steps, {:.2f} s\n",
-          cs.slide, result.push_force, j["capstan_dynamic"].get<double>(), result.steps, result.wall_time_s);
-    else
-      std::cout << fmt::format("finished: slipped at push force {:.10g} (capstan law T0 exp(mu_st angle) = "
-                               "{:.10g}), {} steps, {:.2f} s\n",
-                               result.onset_force, j["capstan_static"].get<double>(), result.steps,
-                               result.wall_time_s);
+    write_summary(dir, j);
+    report(result, j, cs, slipped);
     return result;
   }
 } // namespace wirefem::simulation
