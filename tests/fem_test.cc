@@ -457,6 +457,11 @@ namespace
     double tangent_error = 1.0;
     const auto r = fem::solve_capstan(s, &tangent_error);
     ASSERT_TRUE(r.finished);
+    auto clamped = s;
+    clamped.capstan.trailing_roller = false;
+    double clamped_error = 1.0;
+    ASSERT_TRUE(fem::solve_capstan(clamped, &clamped_error).finished);
+    EXPECT_LT(clamped_error, 1e-6);
     // Central differences reach 2.5e-8 here; a missing follower-force term
     // gives 2.4e-3.
     EXPECT_LT(tangent_error, 1e-6);

@@ -53,7 +53,10 @@ INTRO = {
                "the moment that holds the wall's curvature, so the compression N presses the wire on the wall "
                "with N kappa per length and dN/ds = mu N kappa. Sliding cases: velocity control (0.05 d per "
                "time), mu_d = 0.8 mu_st, the push force averaged over the second half of the sliding against "
-               "T0 exp(mu_d Theta) (h is lambda_0). Slip onset: force control, the push force rising at 1e-4 "
+               "T0 exp(mu_d Theta) (h is lambda_0); the pushed end slides as a roller (radius free), and the "
+               "cases marked clamped (radius held; reported, not asserted) show the friction the support takes "
+               "off the wall in a boundary layer of length (EI/k_n)^(1/4). Slip onset: force control, the push "
+               "force rising at 1e-4 "
                "T0 per time until the leading end has moved 0.01 d; with mu_d = mu_st the error is against "
                "T0 exp(mu Theta); with mu_d < mu_st the onset must lie between T0 exp(mu_d Theta) and "
                "T0 exp(mu_st Theta), and the error shown is the distance below the static value. "
@@ -116,9 +119,8 @@ def section(study, res, figures):
     elif study == "capstan":
         common = (f"Tolerance: {tolerances} (relative). No order in lambda_0 is asserted for the chain: its own "
                   "statics is within 1e-4 of the continuum at lambda_0 = 1, below what the sliding dynamics "
-                  "resolve; finer chains lose up to 0.4% of the friction (a vibration while sliding, and "
-                  "probably the held trailing nodes, which take the wall pressure of a boundary layer as the "
-                  "FEM's clamp did). FEM p = 1: self-convergence order 2 +- 0.3 asserted up to pi/2.")
+                  "resolve; finer chains lose up to 0.23% of the friction (a vibration while sliding, and the "
+                  "wire's extensibility). FEM p = 1: self-convergence order 2 +- 0.3 asserted up to pi/2.")
     else:
         common = COMMON.format(tolerances=tolerances, **res)
     out = [f"## {TITLES.get(study, study)}", "", INTRO.get(study, "").format(**res) + " " + common, ""]

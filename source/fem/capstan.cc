@@ -105,15 +105,16 @@ namespace wirefem::fem
     std::vector<double> ue(nd);
     double clamp_force = 0.0, penetration = 0.0;
 
-    // The trailing end is pushed along the wall like a wire in a channel
-    // that holds its direction but not its distance from the centre: its
-    // polar angle alpha and section angle are prescribed, its radius is free
-    // (a roller), so the wall, not the support, carries the pressure there.
-    // A clamp that also held the radius would take the normal force of a
-    // boundary layer of length (EI/k_n)^(1/4) off the wall and, with it, its
-    // friction (-0.4% of push force at k_n = 2000, mu Theta = 0.38).
-    // In its equations the node's (x, y) are rotated to (radial,
-    // tangential) and the tangential row and column eliminated.
+    // The trailing end is pushed along the wall. As a roller (default) it is
+    // like a wire in a channel that holds its direction but not its distance
+    // from the centre: its polar angle alpha and section angle are
+    // prescribed, its radius is free, so the wall, not the support, carries
+    // the pressure there; in its equations the node's (x, y) are rotated to
+    // (radial, tangential) and the tangential row and column eliminated.
+    // Clamped (Capstan/Trailing end), its radius is held too, and the clamp
+    // takes the normal force of a boundary layer of length (EI/k_n)^(1/4)
+    // off the wall and, with it, its friction (-0.37% of push force at k_n =
+    // 2000, mu Theta = 0.38, h = 0.125).
     //
     // R = internal force - end loads at thrust T and step dt (friction
     // velocities (u - u_old) / dt); K its Jacobian.
@@ -140,7 +141,7 @@ namespace wirefem::fem
         }
       penetration = 0.0;
       ContactContribution cc;
-      for (unsigned int k = 0; k < n_nodes; ++k)
+      for (unsigned int k = cs.trailing_roller ? 0 : 1; k < n_nodes; ++k)
         {
           const Vec2 x{u[3 * k], u[3 * k + 1]};
           const Vec2 v0{-u_old[3 * k] / dt, -u_old[3 * k + 1] / dt};
@@ -170,9 +171,19 @@ namespace wirefem::fem
       // trailing end is the axial force it transmits (compression positive).
       const double ca = std::cos(u[2] + 0.5 * M_PI), sa = std::sin(u[2] + 0.5 * M_PI); // e_r
       clamp_force = R[0] * sa - R[1] * ca;
-      R[0] = R[0] * ca + R[1] * sa;
+      R[0] = cs.trailing_roller ? R[0] * ca + R[1] * sa : 0.0;
       R[1] = R[2] = 0.0;
-      if (want_tangent)
+      if (want_tangent && !cs.trailing_roller)
+        for (unsigned int i = 0; i < 3; ++i)
+          {
+            for (auto it = K.begin(i); it != K.end(i); ++it)
+              it->value() = (it->column() == i) ? 1.0 : 0.0;
+            local_dofs(0);
+            for (const auto j : local)
+              if (j != i)
+                K.set(j, i, 0.0);
+          }
+      if (want_tangent && cs.trailing_roller)
         {
           local_dofs(0);
           for (const auto j : local)
@@ -201,7 +212,7 @@ namespace wirefem::fem
       dealii::Vector<double> rp(n_dofs), u0 = u;
       for (unsigned int j = 0; j < n_dofs; ++j)
         {
-          if (j == 1 || j == 2)
+          if (j == 1 || j == 2 || (j == 0 && !cs.trailing_roller))
             continue;
           for (const double sign : {1.0, -1.0})
             {
@@ -218,7 +229,7 @@ namespace wirefem::fem
             }
           for (unsigned int i = 0; i < n_dofs; ++i)
             {
-              if (i == 1 || i == 2 || !sparsity.exists(i, j))
+              if (i == 1 || i == 2 || (i == 0 && !cs.trailing_roller) || !sparsity.exists(i, j))
                 continue;
               worst = std::max(worst, std::abs(K.el(i, j) - rp[i] / (2.0 * eps)));
               largest = std::max(largest, std::abs(K.el(i, j)));

@@ -158,6 +158,11 @@ namespace wirefem::scene
                 "the time after the ramp.");
       d.declare("Capstan/Force rate", "1e-3", any_double,
                 "Force control: rate of rise of the push force, in units of End force per time.");
+      d.declare("Capstan/Trailing end", "roller", Patterns::Selection("roller|clamped"),
+                "Velocity control: how the pushed end is held. 'roller': its direction and polar angle are "
+                "prescribed, its distance from the centre is free, so the wall carries the pressure next to "
+                "it (a wire in a channel); 'clamped': its position too (the support then takes the wall "
+                "pressure of a boundary layer of length (EI/k_n)^(1/4), and its friction).");
       d.declare("Capstan/Slip distance", "0.01", any_double,
                 "Force control: the wire has slipped once its leading end moved this far (d).");
       d.declare("Capstan/Maximum time", "1e6", any_double,
@@ -348,6 +353,7 @@ namespace wirefem::scene
       cs.slide = d.get_double("Capstan/Slide");
       cs.force_rate = d.get_double("Capstan/Force rate");
       cs.slip_distance = d.get_double("Capstan/Slip distance");
+      cs.trailing_roller = d.get("Capstan/Trailing end") == "roller";
       cs.maximum_time = d.get_double("Capstan/Maximum time");
       auto &cl = s.cantilever;
       cl.length = d.get_double("Cantilever/Length");

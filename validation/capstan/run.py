@@ -19,6 +19,11 @@ which differ by O(zeta^2); both are computed here from the run's geometry.
   compression where the wire leaves the pushed end averaged over the second
   half of the sliding, against T0 exp(mu_d Theta), for wrap angles pi/4,
   pi/2, 3 pi/4 at lambda_0 = 1, 0.5, 0.25, and for mu_st = 0.1, 0.5 at pi/2.
+- The pushed end is a roller (`Capstan/Trailing end = roller`: its radius
+  free, as a wire in a channel). The case pi/2 is also run clamped (radius
+  held), reported only: the support then takes the wall pressure, and the
+  friction, of a boundary layer of length (EI/k_n)^(1/4) = 0.42 d, which
+  finer discretisations resolve (both models).
 - Stick/slip threshold (force control): the push force rises slowly until
   the leading end slips. With mu_d = mu_st it must be T0 exp(mu Theta); with
   mu_d < mu_st it lies between the dynamic and the static value (the slip
@@ -91,16 +96,21 @@ def extensible(s, mu):
 
 
 def fem_cases(wirefem, outdir, failures, cases):
-    plan = [(w, 0.3, p) for w in WRAPS for p in (1, 2)] + [(math.pi / 2, mu, 1) for mu in (0.1, 0.5)]
-    for wrap, mu_st, p in plan:
+    plan = [(w, 0.3, p, "roller") for w in WRAPS for p in (1, 2)]
+    plan += [(math.pi / 2, mu, 1, "roller") for mu in (0.1, 0.5)]
+    plan += [(math.pi / 2, 0.3, 1, "clamped")]
+    for wrap, mu_st, p, support in plan:
         mu_d = 0.8 * mu_st
-        label = f"sliding, wrap {wrap:.4f}, mu_d {mu_d:g}, p = {p}"
+        label = f"sliding, wrap {wrap:.4f}, mu_d {mu_d:g}, p = {p}" + (", clamped" if support == "clamped" else "")
+        roller = support == "roller"
         lengths = FEM_LENGTHS[p] if mu_st == 0.3 else (1.0, 0.5, 0.25)
         rows = []
         for h in lengths:
-            out = os.path.join(outdir, f"fem_slide_{wrap:.4f}_{mu_st:g}_{p}_{h:g}")
+            out = os.path.join(outdir, f"fem_slide_{wrap:.4f}_{mu_st:g}_{p}_{h:g}"
+                               + ("" if roller else "_clamped"))
             s = study.run(wirefem, PRM, ["Model=fem", f"FEM/Degree={p}", f"FEM/Element length={h!r}",
-                                         f"Capstan/Wrap angle={wrap!r}"] + friction(mu_st, mu_d), out)
+                                         f"Capstan/Wrap angle={wrap!r}", f"Capstan/Trailing end={support}"]
+                          + friction(mu_st, mu_d), out)
             ref = continuum(s, mu_d)
             ext = extensible(s, s["sliding_coefficient"])
             row = {"h": h, "wrap_angle": s["wrap_angle"], "push_force": s["push_force"], "reference": ref,
@@ -112,18 +122,18 @@ def fem_cases(wirefem, outdir, failures, cases):
                     row["order_force"] = math.log(rows[-1]["difference"] / row["difference"]) / math.log(
                         rows[-1]["h"] / h)
             rows.append(row)
-            if not s["finished"] or row["error_force"] > TOL:
+            if not s["finished"] or (roller and row["error_force"] > TOL):
                 failures.append(f"FEM {label}, h = {h:g}: push force {s['push_force']:.6g} against "
                                 f"T0 exp(mu_d Theta) = {ref:.6g} (relative error {row['error_force']:.2e} > {TOL:g})")
         finest = rows[-1]
-        if p == 1 and finest["extensible_error"] > EXTENSIBLE_TOL:
+        if p == 1 and roller and finest["extensible_error"] > EXTENSIBLE_TOL:
             failures.append(f"FEM {label}: push force {finest['push_force']:.8g} against the extensible law "
                             f"{finest['extensible_law']:.8g} (relative error {finest['extensible_error']:.2e} > "
                             f"{EXTENSIBLE_TOL:g})")
         # At 3 pi/4 the leading end slides into the channel opening (polar
         # angle below d / 2r) at the end of the 10 d slide, where the wall
         # has its corners: the order there is reported, not asserted.
-        if p == 1 and len(rows) > 2 and wrap <= math.pi / 2 + 1e-9 and \
+        if p == 1 and roller and len(rows) > 2 and wrap <= math.pi / 2 + 1e-9 and \
                 abs(finest["order_force"] - FEM_ORDER) > FEM_ORDER_SLACK:
             failures.append(f"FEM {label}: self-convergence order {finest['order_force']:.2f} at h = "
                             f"{finest['h']:g}, expected {FEM_ORDER:g} +- {FEM_ORDER_SLACK:g}")
@@ -143,22 +153,25 @@ def main():
     failures, cases = [], []
 
     # Steady sliding.
-    plan = [(w, 0.3, LENGTHS) for w in WRAPS] + [(math.pi / 2, mu, (1.0,)) for mu in (0.1, 0.5)]
-    for wrap, mu_st, lengths in plan:
+    plan = [(w, 0.3, LENGTHS, "roller") for w in WRAPS]
+    plan += [(math.pi / 2, mu, (1.0,), "roller") for mu in (0.1, 0.5)]
+    plan += [(math.pi / 2, 0.3, LENGTHS, "clamped")]
+    for wrap, mu_st, lengths, support in plan:
         mu_d = 0.8 * mu_st
-        label = f"sliding, wrap {wrap:.4f}, mu_d {mu_d:g}"
+        label = f"sliding, wrap {wrap:.4f}, mu_d {mu_d:g}" + (", clamped" if support == "clamped" else "")
         rows = []
         for h in lengths:
-            out = os.path.join(outdir, f"slide_{wrap:.4f}_{mu_st:g}_{h:g}")
-            s = study.run(wirefem, PRM, [f"Capstan/Wrap angle={wrap!r}", f"Discrete/Segment length={h!r}"]
-                          + friction(mu_st, mu_d), out)
+            out = os.path.join(outdir, f"slide_{wrap:.4f}_{mu_st:g}_{h:g}"
+                               + ("_clamped" if support == "clamped" else ""))
+            s = study.run(wirefem, PRM, [f"Capstan/Wrap angle={wrap!r}", f"Discrete/Segment length={h!r}",
+                                         f"Capstan/Trailing end={support}"] + friction(mu_st, mu_d), out)
             ref = continuum(s, mu_d)
             row = {"h": h, "wrap_angle": s["wrap_angle"], "push_force": s["push_force"], "reference": ref,
                    "chain_law": s["chain_dynamic"], "error_force": abs(s["push_force"] / ref - 1.0),
                    "chain_error": abs(s["push_force"] / s["chain_dynamic"] - 1.0),
                    "wall_time_s": s["wall_time_s"]}
             rows.append(row)
-            if not s["finished"] or row["error_force"] > TOL:
+            if not s["finished"] or (support == "roller" and row["error_force"] > TOL):
                 failures.append(f"{label}, lambda_0 = {h:g}: push force {s['push_force']:.6g} against "
                                 f"T0 exp(mu_d Theta) = {ref:.6g} (relative error {row['error_force']:.2e} > {TOL:g})")
         cases.append({"model": "discrete", "case": label, "control": "velocity", "mu_static": mu_st,

@@ -1,6 +1,7 @@
 // Set-up = capstan with the rod FEM (validation case 5): a rod lying on the
 // cavity wall over a wrap angle, its trailing end slid along the wall at the
-// push speed (polar and section angle prescribed, radius free), its leading end
+// push speed (polar and section angle prescribed, its radius free or held:
+// Capstan/Trailing end), its leading end
 // loaded by a compressive follower force and the moment that holds it at the
 // wall's curvature. Quasi-static: each step is an equilibrium of the elastic
 // rod, the penalty wall and the rate-dependent friction of the contact

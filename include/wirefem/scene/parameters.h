@@ -87,7 +87,7 @@ namespace wirefem::scene
   {
     double wrap_angle = 1.5707963267948966; ///< angle the frictional part of the wire covers (rad)
     double end_force = 1.0;                 ///< T0, compressive, on the leading end (force)
-    /// 'velocity': the trailing end (two nodes: position and direction) slides
+    /// 'velocity': the trailing end (two nodes) slides
     /// along the wall at Speed, and the push force of steady sliding is
     /// measured; 'force': a compressive follower force on the trailing end
     /// rises at Force rate until the wire slips (the stick/slip threshold).
@@ -97,6 +97,8 @@ namespace wirefem::scene
     double slide = 10.0;         ///< velocity control: distance pushed (d)
     double force_rate = 1e-3;    ///< force control: d(push force)/dt in units of T0 per time
     double slip_distance = 0.01; ///< force control: slipped once the leading end moved this far (d)
+    /// velocity control: the pushed end's radius is free (true) or held
+    bool trailing_roller = true;
     double maximum_time = 1.0e6;
   };
 
