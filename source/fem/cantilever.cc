@@ -107,12 +107,7 @@ namespace wirefem::fem
         {
           R[i] = 0.0;
           if (want_tangent)
-            {
-              for (auto it = K.begin(i); it != K.end(i); ++it)
-                it->value() = (it->column() == i) ? 1.0 : 0.0;
-              for (unsigned int j = 3; j < nd && j < n_dofs; ++j)
-                K.set(j, i, 0.0);
-            }
+            fix_dof(K, i);
         }
       return R.linfty_norm() / scale;
     };

@@ -104,6 +104,8 @@ namespace wirefem::fem
     ElementResult er;
     std::vector<double> ue(nd);
     double clamp_force = 0.0, penetration = 0.0;
+    // Outward unit normal at the trailing end (its section angle + pi/2).
+    const auto radial = [&u]() { return Vec2{-std::sin(u[2]), std::cos(u[2])}; };
 
     // The trailing end is pushed along the wall. As a roller (default) it is
     // like a wire in a channel that holds its direction but not its distance
@@ -169,35 +171,24 @@ namespace wirefem::fem
         }
       // The support's reaction along the section (the wall tangent) at the
       // trailing end is the axial force it transmits (compression positive).
-      const double ca = std::cos(u[2] + 0.5 * M_PI), sa = std::sin(u[2] + 0.5 * M_PI); // e_r
-      clamp_force = R[0] * sa - R[1] * ca;
-      R[0] = cs.trailing_roller ? R[0] * ca + R[1] * sa : 0.0;
+      const Vec2 er = radial();
+      clamp_force = R[0] * er.y - R[1] * er.x;
+      R[0] = cs.trailing_roller ? R[0] * er.x + R[1] * er.y : 0.0;
       R[1] = R[2] = 0.0;
-      if (want_tangent && !cs.trailing_roller)
-        for (unsigned int i = 0; i < 3; ++i)
-          {
-            for (auto it = K.begin(i); it != K.end(i); ++it)
-              it->value() = (it->column() == i) ? 1.0 : 0.0;
-            local_dofs(0);
-            for (const auto j : local)
-              if (j != i)
-                K.set(j, i, 0.0);
-          }
-      if (want_tangent && cs.trailing_roller)
+      if (want_tangent)
         {
-          local_dofs(0);
-          for (const auto j : local)
-            K.set(0, j, ca * K.el(0, j) + sa * K.el(1, j));
-          for (const auto i : local)
-            K.set(i, 0, ca * K.el(i, 0) + sa * K.el(i, 1));
-          for (unsigned int i = 1; i < 3; ++i)
+          if (cs.trailing_roller)
             {
-              for (auto it = K.begin(i); it != K.end(i); ++it)
-                it->value() = (it->column() == i) ? 1.0 : 0.0;
+              local_dofs(0);
               for (const auto j : local)
-                if (j != i)
-                  K.set(j, i, 0.0);
+                K.set(0, j, er.x * K.el(0, j) + er.y * K.el(1, j));
+              for (const auto i : local)
+                K.set(i, 0, er.x * K.el(i, 0) + er.y * K.el(i, 1));
             }
+          else
+            fix_dof(K, 0);
+          fix_dof(K, 1);
+          fix_dof(K, 2);
         }
       return R.linfty_norm();
     };
@@ -206,7 +197,7 @@ namespace wirefem::fem
     // (free dofs and the trailing end's radius): max |K - K_fd| / max |K|.
     auto check_tangent = [&](const double thrust, const double dt) {
       assemble(thrust, dt, true);
-      const double ca = std::cos(u[2] + 0.5 * M_PI), sa = std::sin(u[2] + 0.5 * M_PI);
+      const Vec2 er = radial();
       const double eps = 1e-7;
       double worst = 0.0, largest = 0.0;
       dealii::Vector<double> rp(n_dofs), u0 = u;
@@ -218,7 +209,7 @@ namespace wirefem::fem
             {
               u = u0;
               if (j == 0)
-                u[0] += sign * eps * ca, u[1] += sign * eps * sa;
+                u[0] += sign * eps * er.x, u[1] += sign * eps * er.y;
               else
                 u[j] += sign * eps;
               assemble(thrust, dt, false);
@@ -254,24 +245,17 @@ namespace wirefem::fem
           solver.initialize(K);
           solver.vmult(du, R);
           // du[0] is the radial correction of the trailing end.
-          const double ca = std::cos(u[2] + 0.5 * M_PI), sa = std::sin(u[2] + 0.5 * M_PI);
+          const Vec2 er = radial();
           const double dr = du[0];
-          du[0] = dr * ca;
-          du[1] = dr * sa;
+          du[0] = dr * er.x;
+          du[1] = dr * er.y;
           u -= du;
           ++out.newton_iterations;
         }
       return assemble(thrust, dt, false) < tol;
     };
 
-    // The pushed distance: the speed rises linearly over the ramp time.
-    const auto pushed = [&](const double t) {
-      const double tr = cs.ramp_time;
-      return t < tr ? 0.5 * cs.speed * t * t / tr : cs.speed * (t - 0.5 * tr);
-    };
-    const double t_end = cs.slide >= 0.5 * cs.speed * cs.ramp_time
-                             ? cs.slide / cs.speed + 0.5 * cs.ramp_time
-                             : std::sqrt(2.0 * cs.slide * cs.ramp_time / cs.speed);
+    const double t_end = cs.slide_time();
     const double t_average = 0.5 * (cs.ramp_time + t_end);
     // A step moves the clamp by at most a fifth of a node spacing.
     const double node_spacing = h / p;
@@ -291,7 +275,7 @@ namespace wirefem::fem
         const double t1 = std::min(t + dt, t_end);
         const double step = t1 - t;
         // Predictor: the whole rod slides with the clamp.
-        const double dpsi = (pushed(t1) - pushed(t)) / Rc;
+        const double dpsi = (cs.pushed(t1) - cs.pushed(t)) / Rc;
         u_old = u;
         for (unsigned int k = 0; k < n_nodes; ++k)
           {
@@ -300,7 +284,7 @@ namespace wirefem::fem
             u[3 * k + 1] = -std::sin(dpsi) * x + std::cos(dpsi) * y;
             u[3 * k + 2] -= dpsi;
           }
-        place(u, 0, std::hypot(u[0], u[1]), a0 - pushed(t1) / Rc);
+        place(u, 0, std::hypot(u[0], u[1]), a0 - cs.pushed(t1) / Rc);
         const double thrust = cs.end_force * (cs.ramp_time > 0.0 ? std::min(1.0, t1 / cs.ramp_time) : 1.0);
         if (!newton(thrust, step))
           {
@@ -324,7 +308,7 @@ namespace wirefem::fem
               profile_sum[i] += compression[i] * step;
           }
         const double lead_slide = Rc * (lead_angle0 - std::atan2(u[3 * lead + 1], u[3 * lead]));
-        out.series.push_back({{t, pushed(t), lead_slide, clamp_force, compression[0]}});
+        out.series.push_back({{t, cs.pushed(t), lead_slide, clamp_force, compression[0]}});
       }
     out.time = t;
     out.finished = force_time > 0.0;

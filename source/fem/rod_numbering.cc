@@ -1,6 +1,7 @@
 #include <wirefem/fem/rod_numbering.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
 namespace wirefem::fem
@@ -17,5 +18,16 @@ namespace wirefem::fem
             dsp.add(i, j);
       }
     sparsity.copy_from(dsp);
+  }
+
+  void fix_dof(dealii::SparseMatrix<double> &K, const unsigned int i)
+  {
+    for (auto it = K.begin(i); it != K.end(i); ++it)
+      {
+        const unsigned int j = it->column();
+        it->value() = j == i ? 1.0 : 0.0;
+        if (j != i)
+          K.set(j, i, 0.0);
+      }
   }
 } // namespace wirefem::fem

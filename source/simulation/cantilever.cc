@@ -1,5 +1,6 @@
 #include <wirefem/discrete/terms.h>
 #include <wirefem/fem/cantilever.h>
+#include <wirefem/io/atomic_file.h>
 #include <wirefem/simulation/cantilever.h>
 
 #include <fmt/format.h>
@@ -233,9 +234,7 @@ namespace wirefem::simulation
     j["active_effects"] = r.effects;
     j["plastic_work"] = r.history.empty() ? 0.0 : r.history.back()[4];
     j["energy"] = {{"bending", r.bending}, {"stretching", r.stretching}, {"shear", r.shear}};
-    const auto tmp = dir / "summary.json.tmp";
-    std::ofstream(tmp.string()) << j.dump(2) << '\n';
-    std::filesystem::rename(tmp, dir / "summary.json");
+    io::write_file_atomically(dir / "summary.json", j.dump(2) + '\n');
 
     if (result.converged)
       std::cout << fmt::format("finished: equilibrium (residual {:.2e}) after {} {}, {:.2f} s\n"

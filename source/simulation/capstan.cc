@@ -1,10 +1,13 @@
 #include <wirefem/discrete/terms.h>
 #include <wirefem/fem/capstan.h>
+#include <wirefem/io/atomic_file.h>
 #include <wirefem/simulation/capstan.h>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -24,11 +27,40 @@ namespace wirefem::simulation
       return {radius * std::cos(angle), radius * std::sin(angle)};
     }
 
-    void write_summary(const std::filesystem::path &dir, const nlohmann::json &j)
+    constexpr const char *series_header = "time,pushed,lead_slide,push_force,trailing_compression\n";
+
+    /// Compression along the wire: (angle from the leading end, compression).
+    void write_profile(const std::filesystem::path &dir, const std::vector<std::array<double, 2>> &rows)
     {
-      const auto tmp = dir / "summary.json.tmp";
-      std::ofstream(tmp.string()) << j.dump(2) << '\n';
-      std::filesystem::rename(tmp, dir / "summary.json");
+      std::ofstream profile(dir / "profile.csv");
+      profile << "segment,angle,compression\n";
+      for (std::size_t k = 0; k < rows.size(); ++k)
+        profile << fmt::format("{},{:.17g},{:.17g}\n", k, rows[k][0], rows[k][1]);
+    }
+
+    /// What the summaries of both models share: the set-up, the result and
+    /// the capstan laws over the run's wrap angle.
+    nlohmann::json summary(const char *model, const CapstanResult &result, const scene::Scene &scene,
+                           const std::vector<std::string> &effects)
+    {
+      const auto &cs = scene.capstan;
+      const auto &fr = scene.contact.friction;
+      nlohmann::json j;
+      j["setup"] = "capstan";
+      j["model"] = model;
+      j["control"] = cs.velocity_control ? "velocity" : "force";
+      j["finished"] = result.finished;
+      j["wrap_angle"] = result.wrap_angle;
+      j["end_force"] = cs.end_force;
+      j["mu_static"] = fr.wall_static_coefficient;
+      j["mu_dynamic"] = fr.wall_dynamic_coefficient;
+      j["push_force"] = result.push_force;
+      j["capstan_dynamic"] = cs.end_force * std::exp(fr.wall_dynamic_coefficient * result.wrap_angle);
+      j["capstan_static"] = cs.end_force * std::exp(fr.wall_static_coefficient * result.wrap_angle);
+      j["steps"] = result.steps;
+      j["wall_time_s"] = result.wall_time_s;
+      j["active_effects"] = effects;
+      return j;
     }
 
     void report(const CapstanResult &result, const nlohmann::json &j, const scene::CapstanParameters &cs,
@@ -59,12 +91,13 @@ namespace wirefem::simulation
       const auto &fr = scene.contact.friction;
       const std::filesystem::path dir(scene.output.directory);
       std::filesystem::create_directories(dir);
+      const std::vector<std::string> effects{"stretching",   "shear",    "bending",
+                                             "wall contact", "friction", "end loads"};
       std::cout << fmt::format(
                        "wirefem: scene {} (capstan, rod FEM, quasi-static), r = {}, mu_st = {}, mu_d = "
-                       "{}, velocity control\nactive effects: stretching, shear, bending, wall "
-                       "contact, friction, end loads\noutput: {}",
+                       "{}, velocity control\nactive effects: {}\noutput: {}",
                        scene.name, scene.cavity.radius, fr.wall_static_coefficient,
-                       fr.wall_dynamic_coefficient, dir.string())
+                       fr.wall_dynamic_coefficient, fmt::join(effects, ", "), dir.string())
                 << std::endl;
       const auto sol = fem::solve_capstan(scene);
       CapstanResult result;
@@ -77,42 +110,25 @@ namespace wirefem::simulation
           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
       {
         std::ofstream series(dir / "series.csv");
-        series << "time,pushed,lead_slide,push_force,trailing_compression\n";
+        series << series_header;
         for (const auto &r : sol.series)
           series << fmt::format("{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", r[0], r[1], r[2], r[3], r[4]);
-        std::ofstream profile(dir / "profile.csv");
-        profile << "segment,angle,compression\n";
-        for (std::size_t k = 0; k < sol.profile.size(); ++k)
-          profile << fmt::format("{},{:.17g},{:.17g}\n", k, sol.profile[k][0], sol.profile[k][1]);
       }
-      nlohmann::json j;
-      j["setup"] = "capstan";
-      j["model"] = "fem";
-      j["control"] = "velocity";
-      j["finished"] = result.finished;
+      write_profile(dir, sol.profile);
+      auto j = summary("fem", result, scene, effects);
       j["description"] = sol.description;
-      j["wrap_angle"] = result.wrap_angle;
       j["elements"] = sol.elements;
       j["degree"] = scene.fem.degree;
       j["element_length"] = scene.fem.element_length;
-      j["end_force"] = cs.end_force;
-      j["mu_static"] = fr.wall_static_coefficient;
-      j["mu_dynamic"] = fr.wall_dynamic_coefficient;
       j["sliding_coefficient"] = sol.sliding_coefficient;
-      j["push_force"] = result.push_force;
       j["push_force_peak"] = sol.push_force_peak;
-      j["capstan_dynamic"] = cs.end_force * std::exp(fr.wall_dynamic_coefficient * result.wrap_angle);
-      j["capstan_static"] = cs.end_force * std::exp(fr.wall_static_coefficient * result.wrap_angle);
       j["capstan_sliding"] = cs.end_force * std::exp(sol.sliding_coefficient * result.wrap_angle);
       j["max_penetration"] = sol.max_penetration;
       j["time"] = sol.time;
       j["time_step"] = sol.time_step;
-      j["steps"] = sol.steps;
       j["newton_iterations"] = sol.newton_iterations;
       j["step_cuts"] = sol.step_cuts;
-      j["wall_time_s"] = result.wall_time_s;
-      j["active_effects"] = {"stretching", "shear", "bending", "wall contact", "friction", "end loads"};
-      write_summary(dir, j);
+      io::write_file_atomically(dir / "summary.json", j.dump(2) + '\n');
       if (!result.finished)
         std::cerr << fmt::format(
             "wirefem: error: the capstan run failed at t = {:g} (Newton did not converge "
@@ -212,24 +228,11 @@ namespace wirefem::simulation
                              scene.name, scene.cavity.radius, result.wrap_angle, m, n,
                              fr.wall_static_coefficient, fr.wall_dynamic_coefficient,
                              velocity ? "velocity" : "force")
-              << fmt::format(
-                     "dt = {:.4g}\nactive effects: stretching, bending, wall contact, friction, end loads\n"
-                     "output: {}",
-                     dt, dir.string())
+              << fmt::format("dt = {:.4g}\nactive effects: {}\noutput: {}", dt, fmt::join(effects, ", "),
+                             dir.string())
               << std::endl;
 
-    // The pushed distance s(t) of velocity control: speed ramped linearly.
-    const auto pushed = [&](const double t) {
-      const double tr = cs.ramp_time;
-      return t < tr ? 0.5 * cs.speed * t * t / tr : cs.speed * (t - 0.5 * tr);
-    };
-    const auto push_speed = [&](const double t) {
-      return t < cs.ramp_time ? cs.speed * t / cs.ramp_time : cs.speed;
-    };
-    const double t_end = velocity ? (cs.slide >= 0.5 * cs.speed * cs.ramp_time
-                                         ? cs.slide / cs.speed + 0.5 * cs.ramp_time
-                                         : std::sqrt(2.0 * cs.slide * cs.ramp_time / cs.speed))
-                                  : cs.maximum_time;
+    const double t_end = velocity ? cs.slide_time() : cs.maximum_time;
     // Arc distance the leading end moved (clockwise positive).
     const auto lead_slide = [&]() {
       return Rc * (std::atan2(x0[n].y, x0[n].x) - std::atan2(c.x[n].y, c.x[n].x));
@@ -248,7 +251,7 @@ namespace wirefem::simulation
     // every node sits on the circle and the chain's statics is exact.
     double roller_r = Rc, roller_vr = 0.0;
     std::ofstream series(dir / "series.csv");
-    series << "time,pushed,lead_slide,push_force,trailing_compression\n";
+    series << series_header;
     const double output_interval = velocity ? 0.5 : 1.0;
     double next_output = 0.0, t = 0.0, force_sum = 0.0, force_time = 0.0, peak = 0.0;
     discrete::StepEnergy e;
@@ -262,7 +265,7 @@ namespace wirefem::simulation
         lead->set_thrust(cs.end_force * ramp);
         if (velocity)
           {
-            const double psi = pushed(t) / Rc, omega = push_speed(t) / Rc;
+            const double psi = cs.pushed(t) / Rc, omega = cs.push_speed(t) / Rc;
             for (int k = 0; k < 2; ++k)
               {
                 const double a = std::atan2(x0[k].y, x0[k].x) - psi;
@@ -290,8 +293,8 @@ namespace wirefem::simulation
           }
         if (t >= next_output)
           {
-            series << fmt::format("{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", t, velocity ? pushed(t) : 0.0,
-                                  lead_slide(), p, compression(measured));
+            series << fmt::format("{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", t,
+                                  velocity ? cs.pushed(t) : 0.0, lead_slide(), p, compression(measured));
             next_output += output_interval;
           }
         if (velocity && t >= t_end)
@@ -332,11 +335,11 @@ namespace wirefem::simulation
       // the push force is; force control: at the slip), against the angle
       // from the midpoint of the last segment, where the leading end's load
       // enters the friction.
-      std::ofstream profile(dir / "profile.csv");
-      profile << "segment,angle,compression\n";
+      std::vector<std::array<double, 2>> rows(n);
       for (int k = 0; k < n; ++k)
-        profile << fmt::format("{},{:.17g},{:.17g}\n", k, (n - 1 - k) * zeta,
-                               velocity && force_time > 0.0 ? profile_sum[k] / force_time : compression(k));
+        rows[k] = {{(n - 1 - k) * zeta,
+                    velocity && force_time > 0.0 ? profile_sum[k] / force_time : compression(k)}};
+      write_profile(dir, rows);
     }
 
     // References: the continuum capstan law over the wrap angle, and the
@@ -346,33 +349,19 @@ namespace wirefem::simulation
       return cs.end_force *
              std::pow((1.0 + mu * std::tan(0.5 * zeta)) / (1.0 - mu * std::tan(0.5 * zeta)), m);
     };
-    nlohmann::json j;
-    j["setup"] = "capstan";
-    j["model"] = "discrete";
-    j["control"] = velocity ? "velocity" : "force";
-    j["finished"] = result.finished;
-    j["wrap_angle"] = result.wrap_angle;
+    auto j = summary("discrete", result, scene, effects);
     j["frictional_nodes"] = m;
     j["segments"] = n;
     j["segment_length"] = l0;
     j["turning_angle"] = zeta;
-    j["end_force"] = cs.end_force;
-    j["mu_static"] = fr.wall_static_coefficient;
-    j["mu_dynamic"] = fr.wall_dynamic_coefficient;
-    j["push_force"] = result.push_force;
     j["push_force_peak"] = peak;
     j["onset_force"] = result.onset_force;
-    j["capstan_dynamic"] = cs.end_force * std::exp(fr.wall_dynamic_coefficient * result.wrap_angle);
-    j["capstan_static"] = cs.end_force * std::exp(fr.wall_static_coefficient * result.wrap_angle);
     j["chain_dynamic"] = chain_law(fr.wall_dynamic_coefficient);
     j["chain_static"] = chain_law(fr.wall_static_coefficient);
     j["max_penetration"] = e.max_penetration;
     j["time"] = t;
     j["time_step"] = dt;
-    j["steps"] = result.steps;
-    j["wall_time_s"] = result.wall_time_s;
-    j["active_effects"] = effects;
-    write_summary(dir, j);
+    io::write_file_atomically(dir / "summary.json", j.dump(2) + '\n');
     report(result, j, cs, slipped);
     return result;
   }

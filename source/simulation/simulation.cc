@@ -1,6 +1,7 @@
 #include <wirefem/analysis/fits.h>
 #include <wirefem/analysis/observables.h>
 #include <wirefem/discrete/chain_model.h>
+#include <wirefem/io/atomic_file.h>
 #include <wirefem/io/binary.h>
 #include <wirefem/io/picture.h>
 #include <wirefem/io/progress.h>
@@ -438,11 +439,7 @@ namespace wirefem::simulation
     add_fits(j, (dir / "series.csv").string(), result.phi_final);
     // Written whole and then renamed, and only then is the checkpoint
     // dropped: a run stopped in between still resumes.
-    {
-      const fs::path tmp = dir / "summary.json.tmp";
-      std::ofstream(tmp.string()) << j.dump(2) << '\n';
-      fs::rename(tmp, dir / "summary.json");
-    }
+    io::write_file_atomically(dir / "summary.json", j.dump(2) + '\n');
     if (!result.interrupted)
       fs::remove(checkpoint_file);
 

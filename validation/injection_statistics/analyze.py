@@ -16,6 +16,7 @@ import json
 import math
 import os
 import re
+import statistics
 import sys
 
 PHIS = (0.2, 0.3, 0.4)
@@ -60,8 +61,7 @@ def main():
     for (speed, factor), runs in sorted(groups.items(), key=lambda kv: (-kv[0][0], -kv[0][1])):
         phi = mean_std([r["phi_final"] for r in runs])
         loops = {p: mean_std([r["loops"][f"{p:g}"] for r in runs]) for p in PHIS}
-        times = sorted(r["wall_time_s"] for r in runs)
-        median = times[len(times) // 2] if len(times) % 2 else 0.5 * sum(times[len(times) // 2 - 1:len(times) // 2 + 1])
+        median = statistics.median(r["wall_time_s"] for r in runs)
         table.append({"speed": speed, "time_step_factor": factor, "runs": runs, "phi_jam": phi,
                       "loops": {f"{p:g}": loops[p] for p in PHIS}, "median_wall_time_s": median})
         print(f"{speed:5g}  {factor:9g}  {len(runs):4d}  {phi[0]:.4f} +- {phi[1]:.4f}        " +

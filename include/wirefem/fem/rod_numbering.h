@@ -10,7 +10,9 @@
 namespace dealii
 {
   class SparsityPattern;
-}
+  template <typename number>
+  class SparseMatrix;
+} // namespace dealii
 
 namespace wirefem::fem
 {
@@ -37,4 +39,10 @@ namespace wirefem::fem
     /// The sparsity of the assembled tangent: every element's dofs coupled.
     void make_sparsity(dealii::SparsityPattern &sparsity) const;
   };
+
+  /// Eliminates a prescribed dof i from an assembled tangent with a
+  /// symmetric sparsity: row i becomes the identity row, column i is zeroed
+  /// elsewhere (so the correction of dof i is the residual's entry, zero
+  /// once that is cleared).
+  void fix_dof(dealii::SparseMatrix<double> &K, unsigned int i);
 } // namespace wirefem::fem

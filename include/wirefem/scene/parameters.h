@@ -100,6 +100,21 @@ namespace wirefem::scene
     /// velocity control: the pushed end's radius is free (true) or held
     bool trailing_roller = true;
     double maximum_time = 1.0e6;
+
+    /// Velocity control: the push speed at time t, rising linearly over the
+    /// ramp time.
+    double push_speed(const double t) const { return t < ramp_time ? speed * t / ramp_time : speed; }
+    /// Velocity control: the distance pushed by time t.
+    double pushed(const double t) const
+    {
+      return t < ramp_time ? 0.5 * speed * t * t / ramp_time : speed * (t - 0.5 * ramp_time);
+    }
+    /// Velocity control: the time by which Slide has been pushed.
+    double slide_time() const
+    {
+      return slide >= 0.5 * speed * ramp_time ? slide / speed + 0.5 * ramp_time
+                                              : std::sqrt(2.0 * slide * ramp_time / speed);
+    }
   };
 
   struct CavityParameters
