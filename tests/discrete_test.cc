@@ -224,6 +224,39 @@ namespace
     expect_forces_match_energy(term, c, 1e-6);
   }
 
+  TEST(ForceTerms, ChannelWallsAreTheGradientOfTheirEnergy)
+  {
+    using Channel = discrete::ChannelTerm::Channel;
+    discrete::ChannelTerm term(Channel{{-5.0, 0.0}, {1.0, 0.0}}, Channel{{5.0, 0.0}, {-1.0, 0.0}}, 2000.0);
+    Chain c(10);
+    c.first = 0;
+    c.last = 9;
+    c.lambda0 = 1.0;
+    // Left channel: two nodes inside off the axis, one segment across the mouth.
+    c.x[0] = {-7.3, 0.02};
+    c.x[1] = {-6.2, -0.03};
+    c.x[2] = {-5.4, 0.05};
+    c.x[3] = {-4.5, 0.4}; // in the cavity: segment 2-3 crosses the mouth
+    c.x[4] = {-3.6, 0.9};
+    c.x[5] = {3.7, -0.6};
+    c.x[6] = {4.6, -0.3};
+    c.x[7] = {5.3, 0.07}; // segment 6-7 crosses the right mouth from the cavity side
+    c.x[8] = {6.4, -0.01};
+    expect_forces_match_energy(term, c, 1e-6);
+    // Wholly inside: the energy is (k_c lambda_0/2)(ya^2 + ya yb + yb^2)/3 per segment.
+    Chain straight(4);
+    straight.first = 0;
+    straight.last = 3;
+    straight.x[0] = {-9.0, 0.1};
+    straight.x[1] = {-8.0, -0.2};
+    straight.x[2] = {-7.0, 0.0};
+    StepEnergy e;
+    term.add_forces(straight, 1e-3, e);
+    const double expected = 1000.0 * ((0.01 - 0.02 + 0.04) + (0.04 + 0.0 + 0.0)) / 3.0;
+    EXPECT_NEAR(e.contact, expected, 1e-12 * expected);
+    EXPECT_DOUBLE_EQ(e.max_penetration, 0.2);
+  }
+
   TEST(ForceTerms, SelfContactIsTheGradientOfItsEnergy)
   {
     discrete::ContactLaw law;
@@ -418,16 +451,19 @@ namespace
     // the nodes held in the channels sit at their material coordinate.
     const auto &c = m.chain();
     const double u = ch.injected_per_channel(m.time());
-    // The innermost channel node is at inlet + (S + u) with S a whole number
-    // of segments and S + u in (-lambda_0, 0].
+    // The innermost pushed node is at inlet + (S + u) with S a whole number
+    // of segments and S + u in (-hold - lambda_0, -hold], hold = 2 d here:
+    // the wire between it and the mouth is guided by the channel walls.
+    const double hold = 2.0;
     const double left_depth = c.x[c.first + 1].x + 6.0;
     EXPECT_NEAR(left_depth - u, std::round(left_depth - u), 1e-9);
-    EXPECT_LE(left_depth, 0.0);
-    EXPECT_GT(left_depth, -1.0);
+    EXPECT_LE(left_depth, -hold);
+    EXPECT_GT(left_depth, -hold - 1.0);
     const double right_depth = 6.0 - c.x[c.last - 2].x;
     EXPECT_NEAR(right_depth - u, std::round(right_depth - u), 1e-9);
-    EXPECT_LE(right_depth, 0.0);
-    const int in_cavity = (c.last - 2) - (c.first + 1);
+    EXPECT_LE(right_depth, -hold);
+    EXPECT_GT(right_depth, -hold - 1.0);
+    const int in_cavity = (c.last - 2) - (c.first + 1) - static_cast<int>(2 * hold);
     EXPECT_NEAR(in_cavity, m.injected_length(), 2.0);
   }
 
@@ -481,6 +517,29 @@ namespace
 
 namespace
 {
+  // An elastic, frictionless wire pushed slowly into a cavity winds into a
+  // spiral and should store nearly all the work done on it. Wire leaving a
+  // channel through its mouth must not lose the bending energy it carries
+  // there: when the innermost channel node was held rigidly until it passed
+  // the inlet, each release shed that node's moment, and damping took 55% of
+  // the work here (f = 12, speed 0.1, to phi = 0.5); with the channel walls
+  // it takes 24%, the rest of which falls with the speed (36% at 0.3).
+  TEST(ChainModel, ElasticSpiralStoresMostOfTheInjectionWork)
+  {
+    const auto s =
+        scene::read_scene("", {"Cavity/Radius=12", "Injection/Speed=0.1", "Wire/Plasticity/Enabled=false",
+                               "Contact/Friction/Static coefficient=0",
+                               "Injection/Maximum packing density=0.5", "Output/Progress=off"});
+    discrete::ChainModel m(s);
+    while (m.injected_length() < 0.5 * M_PI * 144.0)
+      m.step();
+    const auto &e = m.energies();
+    EXPECT_EQ(e.plastic, 0.0);
+    EXPECT_EQ(e.friction, 0.0);
+    EXPECT_LT(std::abs(e.balance_error()), 0.01);
+    EXPECT_LT(e.damping, e.injection_work / 3.0) << "stored " << e.stored() << " of " << e.injection_work;
+  }
+
   TEST(ChainModel, SaveAndLoadContinueBitForBit)
   {
     const auto s = small_scene({"Contact/Friction/Static coefficient=2"});

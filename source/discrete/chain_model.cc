@@ -33,14 +33,20 @@ namespace wirefem::discrete
     // cavity up to the maximum packing density, plus the channel nodes.
     const int n0 = static_cast<int>(std::lround(2.0 * radius / lambda0));
     const double max_length = scene.injection.maximum_packing_density * M_PI * radius * radius / diameter;
+    // The channels push the wire by its nodes deeper than `hold` inside
+    // them; between there and the mouth the channel walls guide it
+    // (ChannelTerm), which lets each node go gradually as it leaves.
+    hold = std::max(2.0 * lambda0, 2.0 * diameter);
     const int extra =
-        static_cast<int>(std::ceil(std::max(0.0, max_length - 2.0 * radius) / (2.0 * lambda0))) + 8;
+        static_cast<int>(std::ceil(std::max(0.0, max_length - 2.0 * radius) / (2.0 * lambda0))) +
+        static_cast<int>(std::ceil(hold / lambda0)) + 8;
     nodes = Chain(n0 + 1 + 2 * 2 + 2 * extra);
     nodes.lambda0 = lambda0;
     window[0].length = window[1].length = lambda0;
     nodes.node_mass = mass;
     nodes.n_prescribed = 2;
     place_initial_wire(scene);
+    feed_channels();
 
     const bool keep = scene.keep_neutral_effects;
     effects.push_back("stretching");
@@ -106,6 +112,12 @@ namespace wirefem::discrete
     // friction is on - a neutral effect must not change the trajectory.
     if (con.wall_contact || con.self_contact)
       omega2 += 4.0 * kn / mass;
+    // The channel walls: as stiff per length as the contact penalty per d.
+    const double k_channel = con.normal_stiffness / diameter;
+    terms.push_back(std::make_unique<ChannelTerm>(
+        ChannelTerm::Channel{channels.inlet(Side::left), channels.axis(Side::left)},
+        ChannelTerm::Channel{channels.inlet(Side::right), channels.axis(Side::right)}, k_channel));
+    omega2 += 2.0 * k_channel * lambda0 / mass;
     effects.push_back("inertia");
 
     const auto &dd = scene.discrete;
@@ -162,10 +174,10 @@ namespace wirefem::discrete
   void ChainModel::feed_channels()
   {
     const double v = channels.injection_speed(t);
-    // The innermost channel node is released once it has passed the inlet;
-    // a new node enters at the back of the channel, so each channel always
-    // holds two nodes in line: position and tangent stay clamped.
-    while (channels.depth(Side::left, nodes.x[nodes.first + 1]) > 0.0)
+    // The innermost pushed node is released once it is within `hold` of the
+    // inlet; a new node enters at the back of the channel, so each channel
+    // always pushes two nodes in line.
+    while (channels.depth(Side::left, nodes.x[nodes.first + 1]) > -hold)
       {
         if (nodes.first == 0)
           throw std::runtime_error("chain storage exhausted at the left channel");
@@ -174,7 +186,7 @@ namespace wirefem::discrete
         nodes.v[k] = v * channels.axis(Side::left);
         ledger.injection_work += 0.5 * nodes.node_mass * v * v;
       }
-    while (channels.depth(Side::right, nodes.x[nodes.last - 2]) > 0.0)
+    while (channels.depth(Side::right, nodes.x[nodes.last - 2]) > -hold)
       {
         if (nodes.last == nodes.capacity())
           throw std::runtime_error("chain storage exhausted at the right channel");

@@ -248,3 +248,68 @@ namespace wirefem::discrete
     broad.invalidate();
   }
 } // namespace wirefem::discrete
+
+namespace wirefem::discrete
+{
+  bool ChannelTerm::add_segment(Chain &c, const int a, const int b, const Channel &ch, StepEnergy &e) const
+  {
+    const Vec2 n = perp(ch.axis);
+    const Vec2 ra = c.x[a] - ch.inlet, rb = c.x[b] - ch.inlet;
+    const double sa = dot(ra, ch.axis), sb = dot(rb, ch.axis);
+    if (sa >= 0.0 && sb >= 0.0)
+      return false;
+    const double ya = dot(ra, n), yb = dot(rb, n);
+    // The part inside, t in [t0, t1] of y(t) = ya + (yb - ya) t, and the
+    // derivatives of its ends with respect to sa and sb.
+    double t0 = 0.0, t1 = 1.0;
+    double dt0_dsa = 0.0, dt0_dsb = 0.0, dt1_dsa = 0.0, dt1_dsb = 0.0;
+    if (sa < 0.0 && sb >= 0.0)
+      {
+        const double q = sa - sb;
+        t1 = sa / q;
+        dt1_dsa = -sb / (q * q);
+        dt1_dsb = sa / (q * q);
+      }
+    else if (sa >= 0.0 && sb < 0.0)
+      {
+        const double q = sa - sb;
+        t0 = sa / q;
+        dt0_dsa = -sb / (q * q);
+        dt0_dsb = sa / (q * q);
+      }
+    // I = int_{t0}^{t1} y^2 dt and its derivatives in ya, yb: two-point
+    // Gauss is exact for these cubics.
+    const double len = t1 - t0, g = 0.5 / std::sqrt(3.0);
+    double integral = 0.0, di_dya = 0.0, di_dyb = 0.0;
+    for (const double tq : {t0 + (0.5 - g) * len, t0 + (0.5 + g) * len})
+      {
+        const double y = ya + (yb - ya) * tq;
+        integral += 0.5 * len * y * y;
+        di_dya += len * y * (1.0 - tq);
+        di_dyb += len * y * tq;
+      }
+    const double y0 = ya + (yb - ya) * t0, y1 = ya + (yb - ya) * t1;
+    const double di_dsa = y1 * y1 * dt1_dsa - y0 * y0 * dt0_dsa;
+    const double di_dsb = y1 * y1 * dt1_dsb - y0 * y0 * dt0_dsb;
+    const double w = 0.5 * stiffness * c.lambda0;
+    e.contact += w * integral;
+    c.f[a] -= w * (di_dya * n + di_dsa * ch.axis);
+    c.f[b] -= w * (di_dyb * n + di_dsb * ch.axis);
+    if (sa < 0.0)
+      e.max_penetration = std::max(e.max_penetration, std::abs(ya));
+    if (sb < 0.0)
+      e.max_penetration = std::max(e.max_penetration, std::abs(yb));
+    return true;
+  }
+
+  void ChannelTerm::add_forces(Chain &c, double, StepEnergy &e)
+  {
+    // From each end inwards, up to the first segment wholly inside the cavity.
+    for (int k = c.first; k + 1 < c.last; ++k)
+      if (!add_segment(c, k, k + 1, channels[0], e))
+        break;
+    for (int k = c.last - 1; k - 1 >= c.first; --k)
+      if (!add_segment(c, k - 1, k, channels[1], e))
+        break;
+  }
+} // namespace wirefem::discrete

@@ -75,6 +75,7 @@ namespace wirefem::discrete
     void feed_channels();
 
     double radius, diameter, lambda0, k2;
+    double hold = 0.0; ///< depth in the channels beyond which the wire is pushed
     injection::Channels channels;
     Chain nodes;
     std::vector<std::unique_ptr<Term>> terms;

@@ -283,6 +283,44 @@ namespace wirefem::discrete
     FrictionWork friction_work;
   };
 
+  /// The walls of the two channels, from their mouths at the inlets
+  /// outwards: a zero-clearance guide that holds the wire on the channel
+  /// axis by a distributed lateral spring of stiffness k_c per length,
+  /// energy (k_c/2) times the integral of y^2 over the part of each segment
+  /// inside a channel (s < 0, s the distance past the inlet along the axis,
+  /// y the offset from it). The part inside shrinks continuously as a
+  /// segment leaves through the mouth, so a node passing the inlet is let go
+  /// gradually. Holding the innermost channel node rigidly on the axis
+  /// until it passes the inlet instead releases, once per node, the moment
+  /// that node carried: the wire's bending energy density at the inlet is
+  /// lost on every segment length injected, a dissipation that does not
+  /// vanish as lambda_0 -> 0 (it tripled the elastic spiral's injection
+  /// force). The energy is booked as contact; |y| of the nodes inside counts
+  /// as penetration.
+  class ChannelTerm : public Term
+  {
+  public:
+    struct Channel
+    {
+      geometry::Vec2 inlet; ///< mouth, on the cavity wall
+      geometry::Vec2 axis;  ///< unit vector into the cavity
+    };
+    /// stiffness: k_c, force per length per unit lateral offset.
+    ChannelTerm(const Channel &left, const Channel &right, double stiffness)
+      : channels{left, right}
+      , stiffness(stiffness)
+    {
+    }
+    const char *name() const override { return "channel walls"; }
+    void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
+
+  private:
+    /// Adds the segment (a, b)'s energy and forces; false when it lies wholly outside.
+    bool add_segment(Chain &c, int a, int b, const Channel &ch, StepEnergy &e) const;
+    Channel channels[2];
+    double stiffness;
+  };
+
   /// Wire-wire contact between segments closer than d, with candidates from
   /// the broad phase. A pair whose closest point is the far end of one of its
   /// segments is left to the neighbouring segment (when that pair is outside
