@@ -8,6 +8,7 @@
 #include <wirefem/injection/inlet.h>
 #include <wirefem/io/binary.h>
 
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -94,6 +95,12 @@ namespace wirefem::fem
     double t = 0, dt = 0, dt_max = 0;
     unsigned long steps = 0, cuts = 0;
     int first_free = 0, last_free = 0; // free nodes [first, last)
+    /// The channels push the wire deeper than `hold` inside them (those nodes
+    /// are prescribed); from there to the mouth the channel walls guide it
+    /// (add_channel_walls), so a node is let go gradually as it leaves.
+    double hold = 0;
+    double k_channel = 0; ///< lateral stiffness of the channel walls per length
+    double wall_time = 0; ///< time at which evaluate() places the channel mouths
 
     contact::BroadPhase broad;
     int exclusion = 1;
@@ -117,6 +124,8 @@ namespace wirefem::fem
     double left_inlet_S(double time) const { return a_left - channels.injected_per_channel(time); }
     double right_inlet_S(double time) const { return a_right + channels.injected_per_channel(time); }
     void free_range(double time, int &first, int &last) const;
+    /// The nodes strictly between the inlets (material coordinate past them).
+    void inside_range(double time, int &first, int &last) const;
     void prescribe(double time, dealii::Vector<double> &x, dealii::Vector<double> *vel,
                    dealii::Vector<double> *acc, int first, int last) const;
     Vec2 position(const dealii::Vector<double> &x, unsigned int k) const { return {x[3 * k], x[3 * k + 1]}; }
@@ -187,7 +196,9 @@ namespace wirefem::fem
     // The wire the channels can ever push in: phi_max pi r^2 inside, plus
     // two elements of margin in each channel.
     const double L_max = s.injection.maximum_packing_density * M_PI * radius * radius / diameter;
-    const double per_channel = 0.5 * (L_max - 2.0 * radius) + 2.0 * h;
+    hold = std::max(2.0 * h, 2.0 * diameter);
+    k_channel = s.contact.normal_stiffness / diameter;
+    const double per_channel = 0.5 * (L_max - 2.0 * radius) + 2.0 * h + hold;
     const unsigned int n_channel = static_cast<unsigned int>(std::ceil(per_channel / h));
     const unsigned int n_cavity = static_cast<unsigned int>(std::ceil(2.0 * radius / h - 1e-9));
     n_cells = 2 * n_channel + n_cavity;
@@ -349,14 +360,16 @@ namespace wirefem::fem
     f_old.reinit(n_dofs);
     qp.assign(n_cells * stiffness_shape.n_q, PointState{});
     free_range(0.0, first_free, last_free);
+    wall_time = 0.0;
     prescribe(0.0, u, nullptr, nullptr, first_free, last_free);
     const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, 2.0 * radius);
     for (int k = first_free; k < last_free; ++k)
       {
         const double xi = node_S[k] - a_left;
+        const bool across = xi > 0.0 && xi < 2.0 * radius; // else in a channel, on its axis
         u[3 * k] = xi - radius;
-        u[3 * k + 1] = shape.offset(xi);
-        u[3 * k + 2] = std::atan(shape.slope(xi));
+        u[3 * k + 1] = across ? shape.offset(xi) : 0.0;
+        u[3 * k + 2] = across ? std::atan(shape.slope(xi)) : 0.0;
       }
     // The initial acceleration, and the stored energy of the perturbed
     // wire. Where its curvature exceeds the yield curvature the wire starts
@@ -388,12 +401,19 @@ namespace wirefem::fem
 
   void RodModel::Impl::free_range(const double time, int &first, int &last) const
   {
-    const double sl = left_inlet_S(time), sr = right_inlet_S(time);
+    const double sl = left_inlet_S(time) - hold, sr = right_inlet_S(time) + hold;
     first = static_cast<int>(std::upper_bound(node_S.begin(), node_S.end(), sl + 1e-12 * h) - node_S.begin());
     last = static_cast<int>(std::lower_bound(node_S.begin(), node_S.end(), sr - 1e-12 * h) - node_S.begin());
     if (first < 1 || last >= static_cast<int>(n_nodes))
       throw std::runtime_error("the wire in the channels is used up (Injection/Maximum packing density "
                                "sets how much wire the mesh holds)");
+  }
+
+  void RodModel::Impl::inside_range(const double time, int &first, int &last) const
+  {
+    const double sl = left_inlet_S(time), sr = right_inlet_S(time);
+    first = static_cast<int>(std::upper_bound(node_S.begin(), node_S.end(), sl + 1e-12 * h) - node_S.begin());
+    last = static_cast<int>(std::lower_bound(node_S.begin(), node_S.end(), sr - 1e-12 * h) - node_S.begin());
   }
 
   void RodModel::Impl::prescribe(const double time, dealii::Vector<double> &x, dealii::Vector<double> *vel,
@@ -578,6 +598,165 @@ namespace wirefem::fem
             e.node_contact_force[k] += cc.normal_force;
             ++e.n_wall;
           }
+    // The channel walls (as ChannelTerm of the discrete model): a lateral
+    // spring k_c per length on the part of the wire inside a channel, energy
+    // (k_c/2) times the integral of y^2 over the part of each element with
+    // s < 0, s the distance past the mouth along the channel axis and y the
+    // offset from it. The mouth is fixed in space, so the energy depends on
+    // the positions only and the wire leaving a channel is let go
+    // continuously and without loss. The cut xi* (s = 0) of an element
+    // crossing the mouth is found by bisection; the gradient carries the
+    // moving-end term (k_c/2) y(xi*)^2 h dxi*/dx, and the tangent of such an
+    // element is the central difference of that gradient.
+    {
+      const dealii::QGauss<1> gauss(p + 1); // exact for y^2, degree 2p
+      const auto &pos = stiffness_shape.node_position;
+      const unsigned int nn = p + 1, nd = 2 * nn;
+      auto basis = [&](const double xi, double *N, double *dN) {
+        for (unsigned int a_ = 0; a_ < nn; ++a_)
+          {
+            N[a_] = 1.0;
+            dN[a_] = 0.0;
+            for (unsigned int b_ = 0; b_ < nn; ++b_)
+              if (b_ != a_)
+                {
+                  const double f = 1.0 / (pos[a_] - pos[b_]);
+                  dN[a_] = dN[a_] * (xi - pos[b_]) * f + N[a_] * f;
+                  N[a_] *= (xi - pos[b_]) * f;
+                }
+          }
+      };
+      // Energy and gradient of one element with node positions X (x, y per
+      // node) relative to the mouth; false if it lies wholly outside.
+      std::vector<double> N(nn), dN(nn);
+      auto element = [&](const double *X, const Vec2 &ax, const Vec2 &n, double &U, double *grad,
+                         bool &crossing) {
+        auto s_at = [&](const double xi) {
+          basis(xi, N.data(), dN.data());
+          double v = 0;
+          for (unsigned int a_ = 0; a_ < nn; ++a_)
+            v += N[a_] * (X[2 * a_] * ax.x + X[2 * a_ + 1] * ax.y);
+          return v;
+        };
+        const double s0 = s_at(0.0), s1 = s_at(1.0);
+        U = 0;
+        std::fill(grad, grad + nd, 0.0);
+        crossing = (s0 < 0.0) != (s1 < 0.0);
+        if (s0 >= 0.0 && s1 >= 0.0)
+          return false;
+        double xa = 0.0, xb = 1.0, cut = 0.0;
+        if (crossing)
+          {
+            double lo = 0.0, hi = 1.0; // s(lo) and s(hi) of opposite signs
+            for (int it = 0; it < 60; ++it)
+              {
+                const double mid = 0.5 * (lo + hi);
+                ((s_at(mid) < 0.0) == (s0 < 0.0) ? lo : hi) = mid;
+              }
+            cut = 0.5 * (lo + hi);
+            (s0 < 0.0 ? xb : xa) = cut;
+          }
+        for (unsigned int q = 0; q < gauss.size(); ++q)
+          {
+            const double xi = xa + (xb - xa) * gauss.point(q)[0];
+            const double w = gauss.weight(q) * (xb - xa) * h;
+            basis(xi, N.data(), dN.data());
+            double y = 0;
+            for (unsigned int a_ = 0; a_ < nn; ++a_)
+              y += N[a_] * (X[2 * a_] * n.x + X[2 * a_ + 1] * n.y);
+            U += 0.5 * k_channel * w * y * y;
+            for (unsigned int a_ = 0; a_ < nn; ++a_)
+              {
+                grad[2 * a_] += k_channel * w * y * N[a_] * n.x;
+                grad[2 * a_ + 1] += k_channel * w * y * N[a_] * n.y;
+              }
+          }
+        if (crossing)
+          {
+            // dU/dxi* = +-(k_c/2) y*^2 h (+ when the inside part ends at xi*);
+            // dxi*/dX = -(ds/dX)/(ds/dxi) at xi*.
+            basis(cut, N.data(), dN.data());
+            double y = 0, ds = 0;
+            for (unsigned int a_ = 0; a_ < nn; ++a_)
+              {
+                y += N[a_] * (X[2 * a_] * n.x + X[2 * a_ + 1] * n.y);
+                ds += dN[a_] * (X[2 * a_] * ax.x + X[2 * a_ + 1] * ax.y);
+              }
+            const double dU = (s0 < 0.0 ? 1.0 : -1.0) * 0.5 * k_channel * y * y * h;
+            for (unsigned int a_ = 0; a_ < nn; ++a_)
+              {
+                grad[2 * a_] -= dU * N[a_] * ax.x / ds;
+                grad[2 * a_ + 1] -= dU * N[a_] * ax.y / ds;
+              }
+          }
+        return true;
+      };
+      std::vector<int> g(nd);
+      std::vector<double> X(nd), grad(nd), gp(nd), gm(nd), mat(nd * nd);
+      for (const Side side : {Side::left, Side::right})
+        {
+          const double cut = side == Side::left ? left_inlet_S(wall_time) : right_inlet_S(wall_time);
+          const Vec2 inlet = channels.inlet(side), ax = channels.axis(side), n = perp(ax);
+          for (unsigned int c = 0; c < n_cells; ++c)
+            {
+              // Only the wire near the mouth in material terms can be in a channel.
+              const double x0 = c * h, x1 = x0 + h;
+              if ((side == Side::left ? x0 > cut + hold : x1 < cut - hold) || !cell_active(c, first, last))
+                continue;
+              for (unsigned int a_ = 0; a_ < nn; ++a_)
+                {
+                  const Vec2 r = position(u1, cell_node[c][a_]) - inlet;
+                  X[2 * a_] = r.x;
+                  X[2 * a_ + 1] = r.y;
+                  g[2 * a_] = static_cast<int>(3 * cell_node[c][a_]);
+                  g[2 * a_ + 1] = g[2 * a_] + 1;
+                }
+              double energy, dummy;
+              bool crossing;
+              if (!element(X.data(), ax, n, energy, grad.data(), crossing))
+                continue;
+              for (unsigned int a_ = 0; a_ < nn; ++a_)
+                if (dot(Vec2{X[2 * a_], X[2 * a_ + 1]}, ax) < 0.0)
+                  e.max_overlap = std::max(e.max_overlap, std::abs(dot(Vec2{X[2 * a_], X[2 * a_ + 1]}, n)));
+              for (unsigned int i = 0; i < nd; ++i)
+                {
+                  e.force[g[i]] += grad[i];
+                  e.residual[g[i]] += blend_force * grad[i];
+                }
+              e.contact += energy;
+              if (!want_tangent)
+                continue;
+              if (!crossing)
+                {
+                  // Quadratic in X: k_c int N_a N_b n n^T.
+                  std::fill(mat.begin(), mat.end(), 0.0);
+                  for (unsigned int q = 0; q < gauss.size(); ++q)
+                    {
+                      basis(gauss.point(q)[0], N.data(), dN.data());
+                      const double w = gauss.weight(q) * h * k_channel;
+                      for (unsigned int i = 0; i < nd; ++i)
+                        for (unsigned int j = 0; j < nd; ++j)
+                          mat[i * nd + j] +=
+                              w * N[i / 2] * N[j / 2] * (i % 2 ? n.y : n.x) * (j % 2 ? n.y : n.x);
+                    }
+                }
+              else
+                for (unsigned int j = 0; j < nd; ++j)
+                  {
+                    const double step_j = 1e-6 * diameter, xj = X[j];
+                    bool cr;
+                    X[j] = xj + step_j;
+                    element(X.data(), ax, n, dummy, gp.data(), cr);
+                    X[j] = xj - step_j;
+                    element(X.data(), ax, n, dummy, gm.data(), cr);
+                    X[j] = xj;
+                    for (unsigned int i = 0; i < nd; ++i)
+                      mat[i * nd + j] = (gp[i] - gm[i]) / (2.0 * step_j);
+                  }
+              add_matrix(g, mat.data(), c_force);
+            }
+        }
+    }
     if (scene.contact.self_contact)
       {
         // Node-to-segment contact, both ways: the first node of each
@@ -646,6 +825,7 @@ namespace wirefem::fem
     // Forces at t_n with the velocities v_n (dashpot rates over the last step).
     Evaluation e;
     const dealii::Vector<double> zero(n);
+    wall_time = t;
     evaluate(u, zero, step, 0.0, v, first_free, last_free, false, 0.0, 1.0, 1.0, e);
     std::vector<double> mass(n, 0.0);
     for (unsigned int c = 0; c < n_cells; ++c)
@@ -672,6 +852,7 @@ namespace wirefem::fem
   bool RodModel::Impl::solve_step(const double step)
   {
     const double t1 = t + step;
+    wall_time = t1;
     int first, last;
     free_range(t1, first, last);
     const unsigned int n = u.size();
@@ -1034,7 +1215,8 @@ namespace wirefem::fem
     w.injected_length = injected_length();
     // The inlets, and the free nodes between them.
     const double s0 = m.left_inlet_S(m.t);
-    const int k0 = m.first_free, k1 = m.last_free;
+    int k0, k1;
+    m.inside_range(m.t, k0, k1);
     const int n = k1 - k0 + 2;
     w.points.resize(n);
     w.arc_length.resize(n);

@@ -295,8 +295,11 @@ namespace wirefem::discrete
   /// that node carried: the wire's bending energy density at the inlet is
   /// lost on every segment length injected, a dissipation that does not
   /// vanish as lambda_0 -> 0 (it tripled the elastic spiral's injection
-  /// force). The energy is booked as contact; |y| of the nodes inside counts
-  /// as penetration.
+  /// force). A mouth rounded over one diameter (the stiffness rising from 0
+  /// over that depth, integrated by Gauss points) lost nearly as much: the
+  /// wire then rides over the mouth's corners, which act on nodes. The
+  /// energy is booked as contact; |y| of the nodes inside counts as
+  /// penetration.
   class ChannelTerm : public Term
   {
   public:
