@@ -19,6 +19,7 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <vector>
 
 namespace
 {
@@ -124,6 +125,63 @@ namespace
           }
       }
     EXPECT_LT(worst, 1e-6 * scale) << "degree " << shape.n_nodes - 1;
+  }
+
+  // The channel walls on one element: gradient against finite differences
+  // of the energy for degrees 1 and 2, crossing the mouth either way and
+  // wholly inside; the closed form inside for degree 1.
+  TEST(ChannelWall, GradientIsTheDerivativeOfTheEnergy)
+  {
+    const double k = 2000.0, h = 1.0;
+    const Vec2 axis{1.0, 0.0};
+    struct Case
+    {
+      std::vector<double> pos;
+      std::vector<double> X;
+      bool crossing;
+    };
+    const std::vector<Case> cases = {
+        {{0.0, 1.0}, {-0.6, 0.03, 0.35, -0.2}, true},                   // p = 1, leaving the channel
+        {{0.0, 1.0}, {0.4, 0.25, -0.55, 0.04}, true},                   // p = 1, the other way round
+        {{0.0, 1.0}, {-2.0, 0.05, -1.0, -0.07}, false},                 // p = 1, inside
+        {{0.0, 1.0, 0.5}, {-0.7, 0.02, 0.3, 0.3, -0.2, -0.04}, true},   // p = 2, curved across the mouth
+        {{0.0, 1.0, 0.5}, {0.45, -0.3, -0.6, 0.05, -0.05, -0.1}, true}, // p = 2, the other way round
+    };
+    for (const auto &c : cases)
+      {
+        const unsigned int nd = c.X.size();
+        std::vector<double> grad(nd), gdummy(nd), X = c.X;
+        double U;
+        bool crossing;
+        ASSERT_TRUE(fem::channel_wall_element(c.pos, h, k, X.data(), axis, U, grad.data(), crossing));
+        EXPECT_EQ(crossing, c.crossing);
+        ASSERT_GT(U, 0.0);
+        double scale = 0;
+        for (const double gi : grad)
+          scale = std::max(scale, std::abs(gi));
+        for (unsigned int j = 0; j < nd; ++j)
+          {
+            const double e = 1e-6;
+            double up, um;
+            X[j] = c.X[j] + e;
+            fem::channel_wall_element(c.pos, h, k, X.data(), axis, up, gdummy.data(), crossing);
+            X[j] = c.X[j] - e;
+            fem::channel_wall_element(c.pos, h, k, X.data(), axis, um, gdummy.data(), crossing);
+            X[j] = c.X[j];
+            EXPECT_NEAR(grad[j], (up - um) / (2 * e), 1e-6 * scale) << "dof " << j;
+          }
+      }
+    // Inside, degree 1: (k h/2)(ya^2 + ya yb + yb^2)/3.
+    const std::vector<double> X{-2.0, 0.05, -1.0, -0.07};
+    double U;
+    bool crossing;
+    std::vector<double> grad(4);
+    fem::channel_wall_element({0.0, 1.0}, h, k, X.data(), axis, U, grad.data(), crossing);
+    const double expected = 0.5 * k * h * (0.0025 - 0.0035 + 0.0049) / 3.0;
+    EXPECT_NEAR(U, expected, 1e-12 * expected);
+    // Wholly outside.
+    const std::vector<double> out{0.2, 0.3, 1.1, 0.0};
+    EXPECT_FALSE(fem::channel_wall_element({0.0, 1.0}, h, k, out.data(), axis, U, grad.data(), crossing));
   }
 
   TEST(RodElement, TangentIsTheDerivativeOfTheResidual)

@@ -1,7 +1,10 @@
 #include <wirefem/contact/segment_distance.h>
 #include <wirefem/fem/contact_element.h>
 
+#include <vector>
+
 #include <Sacado.hpp>
+#include <deal.II/base/quadrature_lib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -136,7 +139,8 @@ namespace wirefem::fem
           out.friction_residual[2 * ids[m] + cm] = pc.friction_residual[2 * m + cm];
           for (int n = 0; n < 3; ++n)
             for (int cn = 0; cn < 2; ++cn)
-              out.tangent[(2 * ids[m] + cm) * 8 + 2 * ids[n] + cn] = pc.tangent[(2 * m + cm) * 6 + 2 * n + cn];
+              out.tangent[(2 * ids[m] + cm) * 8 + 2 * ids[n] + cn] =
+                  pc.tangent[(2 * m + cm) * 6 + 2 * n + cn];
         }
     out.normal_force = pc.normal_force;
     out.energy = pc.energy;
@@ -144,8 +148,8 @@ namespace wirefem::fem
   }
 
   bool point_segment_contact(const ContactSettings &s, const double weight, const std::array<Vec2, 3> &x,
-                             const std::array<Vec2, 3> &v0, const double c, ContactContribution &out, double &t_out,
-                             const double friction_scale)
+                             const std::array<Vec2, 3> &v0, const double c, ContactContribution &out,
+                             double &t_out, const double friction_scale)
   {
     out = ContactContribution{};
     out.n_points = 3;
@@ -201,6 +205,90 @@ namespace wirefem::fem
       }
     out.normal_force = fn.val();
     out.energy = 0.5 * k * g.val() * g.val();
+    return true;
+  }
+  bool channel_wall_element(const std::vector<double> &pos, const double h, const double k, const double *X,
+                            const Vec2 &ax, double &U, double *grad, bool &crossing)
+  {
+    const unsigned int nn = pos.size(), nd = 2 * nn;
+    const Vec2 n = perp(ax);
+    std::vector<double> N(nn), dN(nn);
+    auto basis = [&](const double xi) {
+      for (unsigned int a = 0; a < nn; ++a)
+        {
+          N[a] = 1.0;
+          dN[a] = 0.0;
+          for (unsigned int b = 0; b < nn; ++b)
+            if (b != a)
+              {
+                const double f = 1.0 / (pos[a] - pos[b]);
+                dN[a] = dN[a] * (xi - pos[b]) * f + N[a] * f;
+                N[a] *= (xi - pos[b]) * f;
+              }
+        }
+    };
+    auto along = [&](const double *w, const Vec2 &e) {
+      double v = 0;
+      for (unsigned int a = 0; a < nn; ++a)
+        v += w[a] * (X[2 * a] * e.x + X[2 * a + 1] * e.y);
+      return v;
+    };
+    basis(0.0);
+    const double s0 = along(N.data(), ax);
+    basis(1.0);
+    const double s1 = along(N.data(), ax);
+    U = 0;
+    std::fill(grad, grad + nd, 0.0);
+    crossing = (s0 < 0.0) != (s1 < 0.0);
+    if (s0 >= 0.0 && s1 >= 0.0)
+      return false;
+    double xa = 0.0, xb = 1.0, cut = 0.0;
+    if (crossing)
+      {
+        double lo = 0.0, hi = 1.0; // s(lo) and s(hi) of opposite signs
+        for (int it = 0; it < 60; ++it)
+          {
+            const double mid = 0.5 * (lo + hi);
+            basis(mid);
+            ((along(N.data(), ax) < 0.0) == (s0 < 0.0) ? lo : hi) = mid;
+          }
+        cut = 0.5 * (lo + hi);
+        (s0 < 0.0 ? xb : xa) = cut;
+      }
+    // Gauss-Legendre with nn points (exact for y^2, degree 2p), on [xa, xb].
+    const dealii::QGauss<1> gauss(nn);
+    std::vector<double> gx(nn), gw(nn);
+    for (unsigned int q = 0; q < nn; ++q)
+      {
+        gx[q] = gauss.point(q)[0];
+        gw[q] = gauss.weight(q);
+      }
+    for (unsigned int q = 0; q < nn; ++q)
+      {
+        const double xi = xa + (xb - xa) * gx[q];
+        const double w = gw[q] * (xb - xa) * h;
+        basis(xi);
+        const double y = along(N.data(), n);
+        U += 0.5 * k * w * y * y;
+        for (unsigned int a = 0; a < nn; ++a)
+          {
+            grad[2 * a] += k * w * y * N[a] * n.x;
+            grad[2 * a + 1] += k * w * y * N[a] * n.y;
+          }
+      }
+    if (crossing)
+      {
+        // dU/dxi* = +-(k/2) y*^2 h (+ when the inside part ends at xi*);
+        // dxi*/dX = -(ds/dX)/(ds/dxi) at xi*.
+        basis(cut);
+        const double y = along(N.data(), n), ds = along(dN.data(), ax);
+        const double dU = (s0 < 0.0 ? 1.0 : -1.0) * 0.5 * k * y * y * h;
+        for (unsigned int a = 0; a < nn; ++a)
+          {
+            grad[2 * a] -= dU * N[a] * ax.x / ds;
+            grad[2 * a + 1] -= dU * N[a] * ax.y / ds;
+          }
+      }
     return true;
   }
 } // namespace wirefem::fem

@@ -612,84 +612,24 @@ namespace wirefem::fem
       const dealii::QGauss<1> gauss(p + 1); // exact for y^2, degree 2p
       const auto &pos = stiffness_shape.node_position;
       const unsigned int nn = p + 1, nd = 2 * nn;
-      auto basis = [&](const double xi, double *N, double *dN) {
+      std::vector<double> N(nn), dN(nn);
+      auto element = [&](const double *X, const Vec2 &ax, const Vec2 &, double &U, double *grad,
+                         bool &crossing) {
+        return channel_wall_element(pos, h, k_channel, X, ax, U, grad, crossing);
+      };
+      auto basis = [&](const double xi, double *Nv, double *dNv) {
         for (unsigned int a_ = 0; a_ < nn; ++a_)
           {
-            N[a_] = 1.0;
-            dN[a_] = 0.0;
+            Nv[a_] = 1.0;
+            dNv[a_] = 0.0;
             for (unsigned int b_ = 0; b_ < nn; ++b_)
               if (b_ != a_)
                 {
                   const double f = 1.0 / (pos[a_] - pos[b_]);
-                  dN[a_] = dN[a_] * (xi - pos[b_]) * f + N[a_] * f;
-                  N[a_] *= (xi - pos[b_]) * f;
+                  dNv[a_] = dNv[a_] * (xi - pos[b_]) * f + Nv[a_] * f;
+                  Nv[a_] *= (xi - pos[b_]) * f;
                 }
           }
-      };
-      // Energy and gradient of one element with node positions X (x, y per
-      // node) relative to the mouth; false if it lies wholly outside.
-      std::vector<double> N(nn), dN(nn);
-      auto element = [&](const double *X, const Vec2 &ax, const Vec2 &n, double &U, double *grad,
-                         bool &crossing) {
-        auto s_at = [&](const double xi) {
-          basis(xi, N.data(), dN.data());
-          double v = 0;
-          for (unsigned int a_ = 0; a_ < nn; ++a_)
-            v += N[a_] * (X[2 * a_] * ax.x + X[2 * a_ + 1] * ax.y);
-          return v;
-        };
-        const double s0 = s_at(0.0), s1 = s_at(1.0);
-        U = 0;
-        std::fill(grad, grad + nd, 0.0);
-        crossing = (s0 < 0.0) != (s1 < 0.0);
-        if (s0 >= 0.0 && s1 >= 0.0)
-          return false;
-        double xa = 0.0, xb = 1.0, cut = 0.0;
-        if (crossing)
-          {
-            double lo = 0.0, hi = 1.0; // s(lo) and s(hi) of opposite signs
-            for (int it = 0; it < 60; ++it)
-              {
-                const double mid = 0.5 * (lo + hi);
-                ((s_at(mid) < 0.0) == (s0 < 0.0) ? lo : hi) = mid;
-              }
-            cut = 0.5 * (lo + hi);
-            (s0 < 0.0 ? xb : xa) = cut;
-          }
-        for (unsigned int q = 0; q < gauss.size(); ++q)
-          {
-            const double xi = xa + (xb - xa) * gauss.point(q)[0];
-            const double w = gauss.weight(q) * (xb - xa) * h;
-            basis(xi, N.data(), dN.data());
-            double y = 0;
-            for (unsigned int a_ = 0; a_ < nn; ++a_)
-              y += N[a_] * (X[2 * a_] * n.x + X[2 * a_ + 1] * n.y);
-            U += 0.5 * k_channel * w * y * y;
-            for (unsigned int a_ = 0; a_ < nn; ++a_)
-              {
-                grad[2 * a_] += k_channel * w * y * N[a_] * n.x;
-                grad[2 * a_ + 1] += k_channel * w * y * N[a_] * n.y;
-              }
-          }
-        if (crossing)
-          {
-            // dU/dxi* = +-(k_c/2) y*^2 h (+ when the inside part ends at xi*);
-            // dxi*/dX = -(ds/dX)/(ds/dxi) at xi*.
-            basis(cut, N.data(), dN.data());
-            double y = 0, ds = 0;
-            for (unsigned int a_ = 0; a_ < nn; ++a_)
-              {
-                y += N[a_] * (X[2 * a_] * n.x + X[2 * a_ + 1] * n.y);
-                ds += dN[a_] * (X[2 * a_] * ax.x + X[2 * a_ + 1] * ax.y);
-              }
-            const double dU = (s0 < 0.0 ? 1.0 : -1.0) * 0.5 * k_channel * y * y * h;
-            for (unsigned int a_ = 0; a_ < nn; ++a_)
-              {
-                grad[2 * a_] -= dU * N[a_] * ax.x / ds;
-                grad[2 * a_ + 1] -= dU * N[a_] * ax.y / ds;
-              }
-          }
-        return true;
       };
       std::vector<int> g(nd);
       std::vector<double> X(nd), grad(nd), gp(nd), gm(nd), mat(nd * nd);

@@ -25,6 +25,7 @@
 #include <wirefem/geometry/vec2.h>
 
 #include <array>
+#include <vector>
 
 namespace wirefem::fem
 {
@@ -42,7 +43,7 @@ namespace wirefem::fem
   struct ContactContribution
   {
     int n_points = 0;
-    std::array<double, 8> residual{};         ///< normal + friction
+    std::array<double, 8> residual{};          ///< normal + friction
     std::array<double, 8> friction_residual{}; ///< the friction part of residual
     /// d (residual + (friction_scale - 1) friction_residual) / d x, row major, 2 n_points square
     std::array<double, 64> tangent{};
@@ -55,7 +56,8 @@ namespace wirefem::fem
   /// (the channels), where the corners of the openings are the contact.
   /// Returns false when the point does not touch.
   bool wall_contact(double radius, const ContactSettings &s, double weight, const geometry::Vec2 &x,
-                    const geometry::Vec2 &v0, double c, ContactContribution &out, double friction_scale = 1.0);
+                    const geometry::Vec2 &v0, double c, ContactContribution &out,
+                    double friction_scale = 1.0);
 
   /// Point x[0] against the segment x[1]-x[2] (the closest point of the
   /// segment, clamped to its ends). t: the segment parameter of the closest
@@ -72,4 +74,15 @@ namespace wirefem::fem
   bool segment_contact(const ContactSettings &s, double weight, const std::array<geometry::Vec2, 4> &x,
                        const std::array<geometry::Vec2, 4> &v0, double c, ContactContribution &out,
                        double friction_scale = 1.0);
+  /// The walls of a channel acting on one rod element (Lagrange, nodes at
+  /// node_position in [0, 1], rest length h): energy (k/2) times the integral
+  /// of y^2 over the part of the element with s < 0, s the distance past the
+  /// mouth along the channel axis and y the offset from it. X holds the node
+  /// positions relative to the mouth (x0, y0, x1, y1, ...). The cut of an
+  /// element crossing the mouth is found by bisection, and the gradient
+  /// carries the moving end's term. Returns false when the element lies
+  /// wholly outside (s >= 0 at both ends); crossing says whether it crosses.
+  bool channel_wall_element(const std::vector<double> &node_position, double h, double k, const double *X,
+                            const geometry::Vec2 &axis, double &energy, double *gradient, bool &crossing);
+
 } // namespace wirefem::fem
