@@ -1,5 +1,6 @@
 #include <wirefem/contact/segment_distance.h>
 #include <wirefem/fem/contact_element.h>
+#include <wirefem/fem/rod_element.h>
 
 #include <vector>
 
@@ -213,20 +214,7 @@ namespace wirefem::fem
     const unsigned int nn = pos.size(), nd = 2 * nn;
     const Vec2 n = perp(ax);
     std::vector<double> N(nn), dN(nn);
-    auto basis = [&](const double xi) {
-      for (unsigned int a = 0; a < nn; ++a)
-        {
-          N[a] = 1.0;
-          dN[a] = 0.0;
-          for (unsigned int b = 0; b < nn; ++b)
-            if (b != a)
-              {
-                const double f = 1.0 / (pos[a] - pos[b]);
-                dN[a] = dN[a] * (xi - pos[b]) * f + N[a] * f;
-                N[a] *= (xi - pos[b]) * f;
-              }
-        }
-    };
+    auto basis = [&](const double xi) { lagrange_basis(pos, xi, N.data(), dN.data()); };
     auto along = [&](const double *w, const Vec2 &e) {
       double v = 0;
       for (unsigned int a = 0; a < nn; ++a)

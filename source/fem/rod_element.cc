@@ -36,6 +36,23 @@ namespace wirefem::fem
     return s;
   }
 
+  void lagrange_basis(const std::vector<double> &pos, const double xi, double *N, double *dN)
+  {
+    const std::size_t nn = pos.size();
+    for (std::size_t a = 0; a < nn; ++a)
+      {
+        N[a] = 1.0;
+        dN[a] = 0.0;
+        for (std::size_t b = 0; b < nn; ++b)
+          if (b != a)
+            {
+              const double f = 1.0 / (pos[a] - pos[b]);
+              dN[a] = dN[a] * (xi - pos[b]) * f + N[a] * f;
+              N[a] *= (xi - pos[b]) * f;
+            }
+      }
+  }
+
   namespace
   {
     using std::cos;

@@ -617,20 +617,6 @@ namespace wirefem::fem
                          bool &crossing) {
         return channel_wall_element(pos, h, k_channel, X, ax, U, grad, crossing);
       };
-      auto basis = [&](const double xi, double *Nv, double *dNv) {
-        for (unsigned int a_ = 0; a_ < nn; ++a_)
-          {
-            Nv[a_] = 1.0;
-            dNv[a_] = 0.0;
-            for (unsigned int b_ = 0; b_ < nn; ++b_)
-              if (b_ != a_)
-                {
-                  const double f = 1.0 / (pos[a_] - pos[b_]);
-                  dNv[a_] = dNv[a_] * (xi - pos[b_]) * f + Nv[a_] * f;
-                  Nv[a_] *= (xi - pos[b_]) * f;
-                }
-          }
-      };
       std::vector<int> g(nd);
       std::vector<double> X(nd), grad(nd), gp(nd), gm(nd), mat(nd * nd);
       for (const Side side : {Side::left, Side::right})
@@ -672,7 +658,7 @@ namespace wirefem::fem
                   std::fill(mat.begin(), mat.end(), 0.0);
                   for (unsigned int q = 0; q < gauss.size(); ++q)
                     {
-                      basis(gauss.point(q)[0], N.data(), dN.data());
+                      lagrange_basis(pos, gauss.point(q)[0], N.data(), dN.data());
                       const double w = gauss.weight(q) * h * k_channel;
                       for (unsigned int i = 0; i < nd; ++i)
                         for (unsigned int j = 0; j < nd; ++j)

@@ -50,6 +50,10 @@ namespace wirefem::fem
     static ElementShape lagrange(unsigned int degree, double h, unsigned int n_q);
   };
 
+  /// Values N and derivatives dN/dxi at xi in [0, 1] of the Lagrange
+  /// polynomials with nodes at node_position.
+  void lagrange_basis(const std::vector<double> &node_position, double xi, double *N, double *dN);
+
   struct SectionProperties
   {
     double EA = 1000.0;
