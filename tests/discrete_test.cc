@@ -226,8 +226,8 @@ namespace
 
   TEST(ForceTerms, ChannelWallsAreTheGradientOfTheirEnergy)
   {
-    using Channel = discrete::ChannelTerm::Channel;
-    discrete::ChannelTerm term(Channel{{-5.0, 0.0}, {1.0, 0.0}}, Channel{{5.0, 0.0}, {-1.0, 0.0}}, 2000.0);
+    // Mouths at (-5, 0) and (5, 0), axes +x and -x.
+    discrete::ChannelTerm term(injection::Channels(5.0, 0.0), 2000.0);
     Chain c(10);
     c.first = 0;
     c.last = 9;

@@ -128,8 +128,9 @@ namespace
   }
 
   // The channel walls on one element: gradient against finite differences
-  // of the energy for degrees 1 and 2, crossing the mouth either way and
-  // wholly inside; the closed form inside for degree 1.
+  // of the energy, and the tangent against finite differences of the
+  // gradient, for degrees 1 and 2, crossing the mouth either way and wholly
+  // inside (where the tangent is exact); the closed form inside for degree 1.
   TEST(ChannelWall, GradientIsTheDerivativeOfTheEnergy)
   {
     const double k = 2000.0, h = 1.0;
@@ -138,23 +139,21 @@ namespace
     {
       std::vector<double> pos;
       std::vector<double> X;
-      bool crossing;
     };
     const std::vector<Case> cases = {
-        {{0.0, 1.0}, {-0.6, 0.03, 0.35, -0.2}, true},                   // p = 1, leaving the channel
-        {{0.0, 1.0}, {0.4, 0.25, -0.55, 0.04}, true},                   // p = 1, the other way round
-        {{0.0, 1.0}, {-2.0, 0.05, -1.0, -0.07}, false},                 // p = 1, inside
-        {{0.0, 1.0, 0.5}, {-0.7, 0.02, 0.3, 0.3, -0.2, -0.04}, true},   // p = 2, curved across the mouth
-        {{0.0, 1.0, 0.5}, {0.45, -0.3, -0.6, 0.05, -0.05, -0.1}, true}, // p = 2, the other way round
+        {{0.0, 1.0}, {-0.6, 0.03, 0.35, -0.2}},                   // p = 1, leaving the channel
+        {{0.0, 1.0}, {0.4, 0.25, -0.55, 0.04}},                   // p = 1, the other way round
+        {{0.0, 1.0}, {-2.0, 0.05, -1.0, -0.07}},                  // p = 1, inside
+        {{0.0, 1.0, 0.5}, {-0.7, 0.02, 0.3, 0.3, -0.2, -0.04}},   // p = 2, curved across the mouth
+        {{0.0, 1.0, 0.5}, {0.45, -0.3, -0.6, 0.05, -0.05, -0.1}}, // p = 2, the other way round
     };
     for (const auto &c : cases)
       {
         const unsigned int nd = c.X.size();
         std::vector<double> grad(nd), gdummy(nd), X = c.X;
+        std::vector<double> tangent(nd * nd);
         double U;
-        bool crossing;
-        ASSERT_TRUE(fem::channel_wall_element(c.pos, h, k, X.data(), axis, U, grad.data(), crossing));
-        EXPECT_EQ(crossing, c.crossing);
+        ASSERT_TRUE(fem::channel_wall_element(c.pos, h, k, X.data(), axis, U, grad.data(), tangent.data()));
         ASSERT_GT(U, 0.0);
         double scale = 0;
         for (const double gi : grad)
@@ -164,24 +163,40 @@ namespace
             const double e = 1e-6;
             double up, um;
             X[j] = c.X[j] + e;
-            fem::channel_wall_element(c.pos, h, k, X.data(), axis, up, gdummy.data(), crossing);
+            fem::channel_wall_element(c.pos, h, k, X.data(), axis, up, gdummy.data());
             X[j] = c.X[j] - e;
-            fem::channel_wall_element(c.pos, h, k, X.data(), axis, um, gdummy.data(), crossing);
+            fem::channel_wall_element(c.pos, h, k, X.data(), axis, um, gdummy.data());
             X[j] = c.X[j];
             EXPECT_NEAR(grad[j], (up - um) / (2 * e), 1e-6 * scale) << "dof " << j;
+          }
+        double tangent_scale = 0;
+        for (const double t : tangent)
+          tangent_scale = std::max(tangent_scale, std::abs(t));
+        std::vector<double> gp(nd), gm(nd);
+        for (unsigned int j = 0; j < nd; ++j)
+          {
+            const double e = 1e-5;
+            double dummy;
+            X[j] = c.X[j] + e;
+            fem::channel_wall_element(c.pos, h, k, X.data(), axis, dummy, gp.data());
+            X[j] = c.X[j] - e;
+            fem::channel_wall_element(c.pos, h, k, X.data(), axis, dummy, gm.data());
+            X[j] = c.X[j];
+            for (unsigned int i = 0; i < nd; ++i)
+              EXPECT_NEAR(tangent[i * nd + j], (gp[i] - gm[i]) / (2 * e), 1e-5 * tangent_scale)
+                  << "entry " << i << ", " << j;
           }
       }
     // Inside, degree 1: (k h/2)(ya^2 + ya yb + yb^2)/3.
     const std::vector<double> X{-2.0, 0.05, -1.0, -0.07};
     double U;
-    bool crossing;
     std::vector<double> grad(4);
-    fem::channel_wall_element({0.0, 1.0}, h, k, X.data(), axis, U, grad.data(), crossing);
+    fem::channel_wall_element({0.0, 1.0}, h, k, X.data(), axis, U, grad.data());
     const double expected = 0.5 * k * h * (0.0025 - 0.0035 + 0.0049) / 3.0;
     EXPECT_NEAR(U, expected, 1e-12 * expected);
     // Wholly outside.
     const std::vector<double> out{0.2, 0.3, 1.1, 0.0};
-    EXPECT_FALSE(fem::channel_wall_element({0.0, 1.0}, h, k, out.data(), axis, U, grad.data(), crossing));
+    EXPECT_FALSE(fem::channel_wall_element({0.0, 1.0}, h, k, out.data(), axis, U, grad.data()));
   }
 
   TEST(RodElement, TangentIsTheDerivativeOfTheResidual)

@@ -114,9 +114,7 @@ namespace wirefem::discrete
       omega2 += 4.0 * kn / mass;
     // The channel walls: as stiff per length as the contact penalty per d.
     const double k_channel = con.normal_stiffness / diameter;
-    terms.push_back(std::make_unique<ChannelTerm>(
-        ChannelTerm::Channel{channels.inlet(Side::left), channels.axis(Side::left)},
-        ChannelTerm::Channel{channels.inlet(Side::right), channels.axis(Side::right)}, k_channel));
+    terms.push_back(std::make_unique<ChannelTerm>(channels, k_channel));
     omega2 += 2.0 * k_channel * lambda0 / mass;
     effects.push_back("inertia");
 

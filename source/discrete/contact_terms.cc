@@ -251,11 +251,12 @@ namespace wirefem::discrete
 
 namespace wirefem::discrete
 {
-  bool ChannelTerm::add_segment(Chain &c, const int a, const int b, const Channel &ch, StepEnergy &e) const
+  bool ChannelTerm::add_segment(Chain &c, const int a, const int b, const injection::Side side,
+                                StepEnergy &e) const
   {
-    const Vec2 n = perp(ch.axis);
-    const Vec2 ra = c.x[a] - ch.inlet, rb = c.x[b] - ch.inlet;
-    const double sa = dot(ra, ch.axis), sb = dot(rb, ch.axis);
+    const Vec2 axis = channels.axis(side), n = perp(axis), inlet = channels.inlet(side);
+    const Vec2 ra = c.x[a] - inlet, rb = c.x[b] - inlet;
+    const double sa = dot(ra, axis), sb = dot(rb, axis);
     if (sa >= 0.0 && sb >= 0.0)
       return false;
     const double ya = dot(ra, n), yb = dot(rb, n);
@@ -293,8 +294,8 @@ namespace wirefem::discrete
     const double di_dsb = y1 * y1 * dt1_dsb - y0 * y0 * dt0_dsb;
     const double w = 0.5 * stiffness * c.lambda0;
     e.contact += w * integral;
-    c.f[a] -= w * (di_dya * n + di_dsa * ch.axis);
-    c.f[b] -= w * (di_dyb * n + di_dsb * ch.axis);
+    c.f[a] -= w * (di_dya * n + di_dsa * axis);
+    c.f[b] -= w * (di_dyb * n + di_dsb * axis);
     if (sa < 0.0)
       e.max_penetration = std::max(e.max_penetration, std::abs(ya));
     if (sb < 0.0)
@@ -306,10 +307,10 @@ namespace wirefem::discrete
   {
     // From each end inwards, up to the first segment wholly inside the cavity.
     for (int k = c.first; k + 1 < c.last; ++k)
-      if (!add_segment(c, k, k + 1, channels[0], e))
+      if (!add_segment(c, k, k + 1, injection::Side::left, e))
         break;
     for (int k = c.last - 1; k - 1 >= c.first; --k)
-      if (!add_segment(c, k - 1, k, channels[1], e))
+      if (!add_segment(c, k - 1, k, injection::Side::right, e))
         break;
   }
 } // namespace wirefem::discrete

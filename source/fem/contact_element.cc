@@ -209,7 +209,7 @@ namespace wirefem::fem
     return true;
   }
   bool channel_wall_element(const std::vector<double> &pos, const double h, const double k, const double *X,
-                            const Vec2 &ax, double &U, double *grad, bool &crossing)
+                            const Vec2 &ax, double &U, double *grad, double *tangent)
   {
     const unsigned int nn = pos.size(), nd = 2 * nn;
     const Vec2 n = perp(ax);
@@ -227,7 +227,7 @@ namespace wirefem::fem
     const double s1 = along(N.data(), ax);
     U = 0;
     std::fill(grad, grad + nd, 0.0);
-    crossing = (s0 < 0.0) != (s1 < 0.0);
+    const bool crossing = (s0 < 0.0) != (s1 < 0.0);
     if (s0 >= 0.0 && s1 >= 0.0)
       return false;
     double xa = 0.0, xb = 1.0, cut = 0.0;
@@ -245,16 +245,12 @@ namespace wirefem::fem
       }
     // Gauss-Legendre with nn points (exact for y^2, degree 2p), on [xa, xb].
     const dealii::QGauss<1> gauss(nn);
-    std::vector<double> gx(nn), gw(nn);
+    if (tangent)
+      std::fill(tangent, tangent + nd * nd, 0.0);
     for (unsigned int q = 0; q < nn; ++q)
       {
-        gx[q] = gauss.point(q)[0];
-        gw[q] = gauss.weight(q);
-      }
-    for (unsigned int q = 0; q < nn; ++q)
-      {
-        const double xi = xa + (xb - xa) * gx[q];
-        const double w = gw[q] * (xb - xa) * h;
+        const double xi = xa + (xb - xa) * gauss.point(q)[0];
+        const double w = gauss.weight(q) * (xb - xa) * h;
         basis(xi);
         const double y = along(N.data(), n);
         U += 0.5 * k * w * y * y;
@@ -263,6 +259,10 @@ namespace wirefem::fem
             grad[2 * a] += k * w * y * N[a] * n.x;
             grad[2 * a + 1] += k * w * y * N[a] * n.y;
           }
+        if (tangent && !crossing) // quadratic in X: k int N_a N_b n n^T
+          for (unsigned int i = 0; i < nd; ++i)
+            for (unsigned int j = 0; j < nd; ++j)
+              tangent[i * nd + j] += k * w * N[i / 2] * N[j / 2] * (i % 2 ? n.y : n.x) * (j % 2 ? n.y : n.x);
       }
     if (crossing)
       {
@@ -275,6 +275,22 @@ namespace wirefem::fem
           {
             grad[2 * a] -= dU * N[a] * ax.x / ds;
             grad[2 * a + 1] -= dU * N[a] * ax.y / ds;
+          }
+        if (tangent)
+          {
+            const double step = 1e-6;
+            std::vector<double> Xs(X, X + nd), gp(nd), gm(nd);
+            double dummy;
+            for (unsigned int j = 0; j < nd; ++j)
+              {
+                Xs[j] = X[j] + step;
+                channel_wall_element(pos, h, k, Xs.data(), ax, dummy, gp.data());
+                Xs[j] = X[j] - step;
+                channel_wall_element(pos, h, k, Xs.data(), ax, dummy, gm.data());
+                Xs[j] = X[j];
+                for (unsigned int i = 0; i < nd; ++i)
+                  tangent[i * nd + j] = (gp[i] - gm[i]) / (2.0 * step);
+              }
           }
       }
     return true;

@@ -97,7 +97,8 @@ namespace wirefem::fem
     int first_free = 0, last_free = 0; // free nodes [first, last)
     /// The channels push the wire deeper than `hold` inside them (those nodes
     /// are prescribed); from there to the mouth the channel walls guide it
-    /// (add_channel_walls), so a node is let go gradually as it leaves.
+    /// (fem::channel_wall_element in evaluate()), so a node is let go gradually
+    /// as it leaves.
     double hold = 0;
     double k_channel = 0; ///< lateral stiffness of the channel walls per length
     double wall_time = 0; ///< time at which evaluate() places the channel mouths
@@ -123,6 +124,8 @@ namespace wirefem::fem
     int node_dof(unsigned int node, unsigned int c) const { return static_cast<int>(3 * node + c); }
     double left_inlet_S(double time) const { return a_left - channels.injected_per_channel(time); }
     double right_inlet_S(double time) const { return a_right + channels.injected_per_channel(time); }
+    /// The nodes with material coordinate in (sl, sr).
+    void nodes_between(double sl, double sr, int &first, int &last) const;
     void free_range(double time, int &first, int &last) const;
     /// The nodes strictly between the inlets (material coordinate past them).
     void inside_range(double time, int &first, int &last) const;
@@ -399,11 +402,15 @@ namespace wirefem::fem
     ledger.initial = e.axial + e.shear + e.bending;
   }
 
-  void RodModel::Impl::free_range(const double time, int &first, int &last) const
+  void RodModel::Impl::nodes_between(const double sl, const double sr, int &first, int &last) const
   {
-    const double sl = left_inlet_S(time) - hold, sr = right_inlet_S(time) + hold;
     first = static_cast<int>(std::upper_bound(node_S.begin(), node_S.end(), sl + 1e-12 * h) - node_S.begin());
     last = static_cast<int>(std::lower_bound(node_S.begin(), node_S.end(), sr - 1e-12 * h) - node_S.begin());
+  }
+
+  void RodModel::Impl::free_range(const double time, int &first, int &last) const
+  {
+    nodes_between(left_inlet_S(time) - hold, right_inlet_S(time) + hold, first, last);
     if (first < 1 || last >= static_cast<int>(n_nodes))
       throw std::runtime_error("the wire in the channels is used up (Injection/Maximum packing density "
                                "sets how much wire the mesh holds)");
@@ -411,9 +418,7 @@ namespace wirefem::fem
 
   void RodModel::Impl::inside_range(const double time, int &first, int &last) const
   {
-    const double sl = left_inlet_S(time), sr = right_inlet_S(time);
-    first = static_cast<int>(std::upper_bound(node_S.begin(), node_S.end(), sl + 1e-12 * h) - node_S.begin());
-    last = static_cast<int>(std::lower_bound(node_S.begin(), node_S.end(), sr - 1e-12 * h) - node_S.begin());
+    nodes_between(left_inlet_S(time), right_inlet_S(time), first, last);
   }
 
   void RodModel::Impl::prescribe(const double time, dealii::Vector<double> &x, dealii::Vector<double> *vel,
@@ -609,23 +614,23 @@ namespace wirefem::fem
     // moving-end term (k_c/2) y(xi*)^2 h dxi*/dx, and the tangent of such an
     // element is the central difference of that gradient.
     {
-      const dealii::QGauss<1> gauss(p + 1); // exact for y^2, degree 2p
       const auto &pos = stiffness_shape.node_position;
       const unsigned int nn = p + 1, nd = 2 * nn;
-      std::vector<double> N(nn), dN(nn);
-      auto element = [&](const double *X, const Vec2 &ax, const Vec2 &, double &U, double *grad,
-                         bool &crossing) {
-        return channel_wall_element(pos, h, k_channel, X, ax, U, grad, crossing);
-      };
       std::vector<int> g(nd);
-      std::vector<double> X(nd), grad(nd), gp(nd), gm(nd), mat(nd * nd);
+      std::vector<double> X(nd), grad(nd), mat(nd * nd);
       for (const Side side : {Side::left, Side::right})
         {
           const double cut = side == Side::left ? left_inlet_S(wall_time) : right_inlet_S(wall_time);
           const Vec2 inlet = channels.inlet(side), ax = channels.axis(side), n = perp(ax);
-          for (unsigned int c = 0; c < n_cells; ++c)
+          // Only the wire near the mouth in material terms can be in a
+          // channel, and only elements with a free node (deeper than hold
+          // behind the mouth) take part.
+          const int c_lo = std::max(0, static_cast<int>(std::floor((cut - hold) / h)) - 1);
+          const int c_hi =
+              std::min(static_cast<int>(n_cells) - 1, static_cast<int>(std::floor((cut + hold) / h)) + 1);
+          for (int ci = c_lo; ci <= c_hi; ++ci)
             {
-              // Only the wire near the mouth in material terms can be in a channel.
+              const unsigned int c = static_cast<unsigned int>(ci);
               const double x0 = c * h, x1 = x0 + h;
               if ((side == Side::left ? x0 > cut + hold : x1 < cut - hold) || !cell_active(c, first, last))
                 continue;
@@ -637,9 +642,9 @@ namespace wirefem::fem
                   g[2 * a_] = static_cast<int>(3 * cell_node[c][a_]);
                   g[2 * a_ + 1] = g[2 * a_] + 1;
                 }
-              double energy, dummy;
-              bool crossing;
-              if (!element(X.data(), ax, n, energy, grad.data(), crossing))
+              double energy;
+              if (!channel_wall_element(pos, h, k_channel, X.data(), ax, energy, grad.data(),
+                                        want_tangent ? mat.data() : nullptr))
                 continue;
               for (unsigned int a_ = 0; a_ < nn; ++a_)
                 if (dot(Vec2{X[2 * a_], X[2 * a_ + 1]}, ax) < 0.0)
@@ -650,36 +655,8 @@ namespace wirefem::fem
                   e.residual[g[i]] += blend_force * grad[i];
                 }
               e.contact += energy;
-              if (!want_tangent)
-                continue;
-              if (!crossing)
-                {
-                  // Quadratic in X: k_c int N_a N_b n n^T.
-                  std::fill(mat.begin(), mat.end(), 0.0);
-                  for (unsigned int q = 0; q < gauss.size(); ++q)
-                    {
-                      lagrange_basis(pos, gauss.point(q)[0], N.data(), dN.data());
-                      const double w = gauss.weight(q) * h * k_channel;
-                      for (unsigned int i = 0; i < nd; ++i)
-                        for (unsigned int j = 0; j < nd; ++j)
-                          mat[i * nd + j] +=
-                              w * N[i / 2] * N[j / 2] * (i % 2 ? n.y : n.x) * (j % 2 ? n.y : n.x);
-                    }
-                }
-              else
-                for (unsigned int j = 0; j < nd; ++j)
-                  {
-                    const double step_j = 1e-6 * diameter, xj = X[j];
-                    bool cr;
-                    X[j] = xj + step_j;
-                    element(X.data(), ax, n, dummy, gp.data(), cr);
-                    X[j] = xj - step_j;
-                    element(X.data(), ax, n, dummy, gm.data(), cr);
-                    X[j] = xj;
-                    for (unsigned int i = 0; i < nd; ++i)
-                      mat[i * nd + j] = (gp[i] - gm[i]) / (2.0 * step_j);
-                  }
-              add_matrix(g, mat.data(), c_force);
+              if (want_tangent)
+                add_matrix(g, mat.data(), c_force);
             }
         }
     }

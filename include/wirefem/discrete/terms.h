@@ -5,6 +5,7 @@
 #include <wirefem/contact/broad_phase.h>
 #include <wirefem/contact/friction_law.h>
 #include <wirefem/discrete/chain.h>
+#include <wirefem/injection/channels.h>
 #include <wirefem/io/binary.h>
 #include <wirefem/material/moment_curvature_law.h>
 
@@ -303,14 +304,10 @@ namespace wirefem::discrete
   class ChannelTerm : public Term
   {
   public:
-    struct Channel
-    {
-      geometry::Vec2 inlet; ///< mouth, on the cavity wall
-      geometry::Vec2 axis;  ///< unit vector into the cavity
-    };
-    /// stiffness: k_c, force per length per unit lateral offset.
-    ChannelTerm(const Channel &left, const Channel &right, double stiffness)
-      : channels{left, right}
+    /// channels: their mouths and axes; stiffness: k_c, force per length per
+    /// unit lateral offset.
+    ChannelTerm(const injection::Channels &channels, double stiffness)
+      : channels(channels)
       , stiffness(stiffness)
     {
     }
@@ -318,9 +315,10 @@ namespace wirefem::discrete
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
 
   private:
-    /// Adds the segment (a, b)'s energy and forces; false when it lies wholly outside.
-    bool add_segment(Chain &c, int a, int b, const Channel &ch, StepEnergy &e) const;
-    Channel channels[2];
+    /// Adds the segment (a, b)'s energy and forces for the channel of `side`;
+    /// false when it lies wholly outside.
+    bool add_segment(Chain &c, int a, int b, injection::Side side, StepEnergy &e) const;
+    injection::Channels channels;
     double stiffness;
   };
 

@@ -80,9 +80,13 @@ namespace wirefem::fem
   /// mouth along the channel axis and y the offset from it. X holds the node
   /// positions relative to the mouth (x0, y0, x1, y1, ...). The cut of an
   /// element crossing the mouth is found by bisection, and the gradient
-  /// carries the moving end's term. Returns false when the element lies
-  /// wholly outside (s >= 0 at both ends); crossing says whether it crosses.
+  /// carries the moving end's term. With `tangent` (2n x 2n, row major) also
+  /// the derivative of the gradient: exact for an element wholly inside,
+  /// central differences of the gradient (step 1e-6, positions in d) for one
+  /// crossing the mouth. Returns false when the element lies wholly outside
+  /// (s >= 0 at both ends).
   bool channel_wall_element(const std::vector<double> &node_position, double h, double k, const double *X,
-                            const geometry::Vec2 &axis, double &energy, double *gradient, bool &crossing);
+                            const geometry::Vec2 &axis, double &energy, double *gradient,
+                            double *tangent = nullptr);
 
 } // namespace wirefem::fem
