@@ -3,6 +3,7 @@
 #include <wirefem/discrete/chain_model.h>
 #include <wirefem/discrete/terms.h>
 #include <wirefem/injection/channels.h>
+#include <wirefem/injection/inlet.h>
 #include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/cantilever.h>
 #include <wirefem/simulation/capstan.h>
@@ -465,6 +466,60 @@ namespace
     EXPECT_GT(right_depth, -hold - 1.0);
     const int in_cavity = (c.last - 2) - (c.first + 1) - static_cast<int>(2 * hold);
     EXPECT_NEAR(in_cavity, m.injected_length(), 2.0);
+  }
+
+  TEST(Channels, SlowStartIsSmoothAndInjectsItsLengthSlowly)
+  {
+    const double v = 0.3, v0 = 0.01, T = 10.0, l0 = 5.0;
+    const injection::Channels slow(25.0, v, T, v0, l0), plain(25.0, v, T);
+    const injection::Channels off(25.0, v, T, v0, 0.0);
+    const double t1 = l0 / v0 + 0.5 * T; // when the slow phase alone has injected l0
+    EXPECT_NEAR(slow.injected_per_channel(t1), l0, 1e-12);
+    EXPECT_DOUBLE_EQ(slow.injection_speed(0.5 * t1), v0);
+    EXPECT_DOUBLE_EQ(slow.injection_speed(t1 + T + 1.0), v);
+    const double e = 1e-5;
+    for (const double t : {0.3 * T, 0.7 * T, 0.5 * t1, t1 + 0.01, t1 + 0.3 * T, t1 + 0.9 * T, t1 + 2 * T})
+      {
+        // Speed and acceleration are the derivatives of length and speed.
+        EXPECT_NEAR((slow.injected_per_channel(t + e) - slow.injected_per_channel(t - e)) / (2 * e),
+                    slow.injection_speed(t), 1e-8)
+            << t;
+        EXPECT_NEAR((slow.injection_speed(t + e) - slow.injection_speed(t - e)) / (2 * e),
+                    slow.injection_acceleration(t), 1e-6)
+            << t;
+        // No slow start: the plain schedule, to the last bit.
+        EXPECT_EQ(off.injected_per_channel(t), plain.injected_per_channel(t));
+        EXPECT_EQ(off.injection_speed(t), plain.injection_speed(t));
+      }
+    // Continuous through the switch.
+    EXPECT_NEAR(slow.injection_speed(t1 - 1e-9), slow.injection_speed(t1 + 1e-9), 1e-9);
+  }
+
+  TEST(InitialShape, MirrorAsymmetryZeroKeepsTheMirrorSymmetry)
+  {
+    const double span = 50.0;
+    const injection::InitialShape symmetric(7, 0.5, span, 0.0), drawn(7, 0.5, span);
+    double asymmetry = 0.0;
+    for (const double xi : {1.0, 5.5, 12.25, 20.0, 24.0})
+      {
+        EXPECT_NEAR(symmetric.offset(xi), symmetric.offset(span - xi), 1e-15) << xi;
+        asymmetry = std::max(asymmetry, std::abs(drawn.offset(xi) - drawn.offset(span - xi)));
+        // The symmetric modes are the drawn ones.
+        EXPECT_NEAR(symmetric.offset(xi) + symmetric.offset(span - xi),
+                    drawn.offset(xi) + drawn.offset(span - xi), 1e-14);
+      }
+    EXPECT_GT(asymmetry, 1e-3); // the default start is not symmetric
+  }
+
+  TEST(ChainModel, SlowStartReachesTheModel)
+  {
+    const auto s = small_scene({"Injection/Speed=0.7", "Injection/Ramp time=3",
+                                "Injection/Slow start length=2", "Injection/Slow start speed=0.1"});
+    discrete::ChainModel m(s);
+    while (m.time() < 10.0)
+      m.step();
+    // Still in the slow phase (it ends at 2/0.1 + 1.5 = 21.5): 0.1 (t - 1.5) per channel.
+    EXPECT_NEAR(m.injected_length(), 12.0 + 2.0 * 0.1 * (m.time() - 1.5), 1e-9);
   }
 
   TEST(ChainModel, NeutralFrictionAndPlasticityChangeNothing)

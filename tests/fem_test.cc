@@ -5,6 +5,7 @@
 // energy balance of a small run.
 #include <wirefem/fem/cantilever.h>
 #include <wirefem/fem/capstan.h>
+#include <wirefem/contact/friction_law.h>
 #include <wirefem/fem/contact_element.h>
 #include <wirefem/fem/rod_element.h>
 #include <wirefem/fem/rod_model.h>
@@ -371,6 +372,58 @@ namespace
         }
   }
 
+  TEST(FemContact, SpringLawWallTangentIsTheDerivativeAndItsForceTheDiscreteLaw)
+  {
+    // Sticking (small step), sliding (large step) and sliding on (old state
+    // sliding, fast): in each the tangent is the derivative of the residual
+    // within the branch, and the friction force and history are those of
+    // contact::friction_update for the same normal force and tangential
+    // displacement.
+    const double R = 10.0, dt = 0.1, ratio = 0.2, w = 0.7;
+    const Vec2 x{3.0, 9.35};
+    struct Case
+    {
+      Vec2 step;
+      contact::FrictionHistory old;
+      bool sliding;
+    };
+    // Here F_n = 2000 w 0.32 = 448: the static cap mu_st F_n / k_t is 0.96 d of
+    // elongation, the dynamic one 0.64 d.
+    for (const auto &c :
+         {Case{{1e-5, -3e-6}, {2e-5, false}, false}, Case{{1.5, -0.48}, {0.0, false}, true},
+          Case{{0.02, -0.006}, {-0.64, true}, true}, Case{{0.02, -0.006}, {-0.3, true}, false}})
+      {
+        const Vec2 x_old = x - c.step;
+        fem::ContactContribution cc, cp, cm, normal;
+        fem::SpringFriction sf, tmp;
+        ASSERT_TRUE(fem::wall_contact_spring(R, settings(true), w, ratio, x, x_old, dt, c.old, cc, sf));
+        EXPECT_EQ(sf.history.sliding, c.sliding);
+        // The same through the discrete model's law.
+        ASSERT_TRUE(fem::wall_contact(R, settings(false), w, x, Vec2{}, 0.0, normal));
+        const Vec2 n = (1.0 / norm(x)) * x, t{-n.y, n.x};
+        contact::FrictionCoefficients fc{0.6, 0.4, 0.01, ratio * 2000.0 * w};
+        const auto law = contact::friction_update(fc, normal.normal_force, dot(c.step, t) / dt, dt, c.old);
+        EXPECT_NEAR(sf.history.elongation, law.history.elongation, 1e-12);
+        EXPECT_EQ(sf.history.sliding, law.history.sliding);
+        EXPECT_NEAR(sf.dissipated, law.dissipated, 1e-12);
+        for (int i = 0; i < 2; ++i)
+          EXPECT_NEAR(cc.friction_residual[i], -law.force * (i ? t.y : t.x), 1e-12);
+        for (int j = 0; j < 2; ++j)
+          {
+            const double h = 1e-8;
+            Vec2 xp = x, xm = x;
+            (j ? xp.y : xp.x) += h;
+            (j ? xm.y : xm.x) -= h;
+            ASSERT_TRUE(fem::wall_contact_spring(R, settings(true), w, ratio, xp, x_old, dt, c.old, cp, tmp));
+            ASSERT_TRUE(fem::wall_contact_spring(R, settings(true), w, ratio, xm, x_old, dt, c.old, cm, tmp));
+            for (int i = 0; i < 2; ++i)
+              EXPECT_NEAR((cp.residual[i] - cm.residual[i]) / (2 * h), cc.tangent[i * 2 + j],
+                          1e-5 * std::abs(cc.tangent[i * 2 + j]) + 1e-5)
+                  << i << j;
+          }
+      }
+  }
+
   TEST(FemContact, SegmentForceIsTheGradientAndTangentTheDerivative)
   {
     // End point of B against the interior of A, and end against end.
@@ -557,6 +610,26 @@ namespace
     EXPECT_NEAR(r.sliding_coefficient, mu, 1e-15);
     EXPECT_NEAR(r.push_force / std::exp(mu * r.wrap_angle), 1.0, 2e-6); // 4.5e-7 measured (O(h^2))
     EXPECT_EQ(r.step_cuts, 0u);
+  }
+
+  TEST(FemCapstan, SpringLawSlipsAtTheStaticCapstanLaw)
+  {
+    // Force control with the spring law: a nearly inextensible rod on the
+    // wall over pi/2 holds until the push reaches T0 exp(mu Theta) (mu_d =
+    // mu_st: a sharp threshold), and the tangent includes the free pushed
+    // end's follower force and the sticking springs.
+    const auto s = scene::read_scene(
+        "",
+        {"Set-up=capstan", "Model=fem", "Cavity/Radius=25", "Wire/Plasticity/Enabled=false",
+         "Wire/Axial stiffness=1e5", "FEM/Element length=0.5", "FEM/Friction law=spring",
+         "Capstan/Control=force", "Capstan/Ramp time=10", "Capstan/Force rate=1e-3",
+         "Contact/Friction/Wall static coefficient=0.3", "Contact/Friction/Wall dynamic coefficient=0.3"});
+    double tangent_error = 1.0;
+    const auto r = fem::solve_capstan(s, &tangent_error);
+    ASSERT_TRUE(r.finished);
+    EXPECT_LT(tangent_error, 1e-6);
+    const double law = std::exp(0.3 * r.wrap_angle);
+    EXPECT_NEAR(r.onset_force / law, 1.0, 2e-3) << r.onset_force << " " << law;
   }
 
   TEST(FemCantilever, PastTheEulerLoadNewtonKeepsToTheStableBranchOfTheImperfection)

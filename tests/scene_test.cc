@@ -68,6 +68,12 @@ namespace
              {{"Wire/Plasticity/Hardening slope=1.5"}, "Wire/Plasticity/Hardening slope", "[0, 1]"},
              {{"Discrete/Segment length=0.3"}, "Discrete/Segment length", "whole number"},
              {{"Cavity/Radius"}, "Cavity/Radius", "expected"},
+             {{"Injection/Slow start length=0.01", "Injection/Ramp time=10"},
+              "Injection/Slow start length",
+              "at least what the ramp injects"},
+             {{"Injection/Slow start length=5", "Injection/Slow start speed=0"},
+              "Injection/Slow start speed",
+              "must be positive"},
          })
       {
         const auto msg = error_of(f, c.overrides);

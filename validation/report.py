@@ -23,7 +23,7 @@ CASES = [
     ("3", "Euler buckling and post-buckling, pinned-pinned", "buckling"),
     ("4", "Elastoplastic bending cycles through the executable (both models; the discrete chain loaded slowly)",
      "plastic_cycles"),
-    ("5", "Friction: capstan law along the cavity wall (both models), and the stick/slip threshold (discrete model)", "capstan"),
+    ("5", "Friction: capstan law along the cavity wall, and the stick/slip threshold (both models)", "capstan"),
     ("6", "Spiral packing force against the tight-spiral estimate (measured, not asserted: "
           "validation/README.md, figures/spiral_force.png)", None),
     ("7", "Mesh convergence: FEM p = 1, 2, 3 and discrete lambda_0 (on cases 1-3)", "cantilever"),

@@ -18,7 +18,8 @@ namespace wirefem::discrete
     , diameter(1.0)
     , lambda0(scene.discrete.segment_length)
     , k2(scene.wire.bending_stiffness / scene.discrete.segment_length)
-    , channels(scene.cavity.radius, scene.injection.speed, scene.injection.ramp_time)
+    , channels(scene.cavity.radius, scene.injection.speed, scene.injection.ramp_time,
+               scene.injection.slow_start_speed, scene.injection.slow_start_length)
   {
     const double k1 = scene.wire.axial_stiffness / lambda0;
     const double mass = scene.wire.mass_per_length * lambda0;
@@ -159,7 +160,8 @@ namespace wirefem::discrete
       nodes.x[k] = channels.position(Side::right, (right_origin - k) * lambda0, 0.0);
 
     // The seeded perturbation (injection/inlet.h).
-    const injection::InitialShape shape(scene.injection.seed, scene.injection.perturbation, 2.0 * radius);
+    const injection::InitialShape shape(scene.injection.seed, scene.injection.perturbation, 2.0 * radius,
+                                        scene.injection.mirror_asymmetry);
     for (int k = left_origin + 1; k < right_origin; ++k)
       {
         const double xi = (k - left_origin) * lambda0;

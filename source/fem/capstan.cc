@@ -1,3 +1,4 @@
+#include <wirefem/contact/friction_law.h>
 #include <wirefem/fem/capstan.h>
 #include <wirefem/fem/contact_element.h>
 #include <wirefem/fem/rod_element.h>
@@ -60,6 +61,8 @@ namespace wirefem::fem
                      : s.fem.shear_stiffness;
     const material::MomentCurvatureLaw law(w.bending_stiffness);
 
+    const bool velocity = cs.velocity_control;
+    const bool spring = s.fem.spring_friction;
     ContactSettings wall;
     wall.diameter = diameter;
     wall.stiffness = s.contact.normal_stiffness;
@@ -67,11 +70,17 @@ namespace wirefem::fem
     wall.mu_static = fr.wall_static_coefficient;
     wall.mu_dynamic = fr.wall_dynamic_coefficient;
     wall.threshold_velocity = fr.threshold_velocity;
-    {
-      const double x = cs.speed / std::max(fr.threshold_velocity, 1e-9);
-      out.sliding_coefficient =
-          (wall.mu_dynamic + (wall.mu_static - wall.mu_dynamic) * std::exp(-x)) * std::tanh(x);
-    }
+    if (spring)
+      out.sliding_coefficient = wall.mu_dynamic;
+    else
+      {
+        const double x = cs.speed / std::max(fr.threshold_velocity, 1e-9);
+        out.sliding_coefficient =
+            (wall.mu_dynamic + (wall.mu_static - wall.mu_dynamic) * std::exp(-x)) * std::tanh(x);
+      }
+    // Spring law: the friction history of each node's wall contact, as of
+    // the last equilibrium, and its trial over the current step.
+    std::vector<contact::FrictionHistory> history(n_nodes), trial(n_nodes);
 
     // The rod on the centreline circle, centred on the top of the cavity,
     // running clockwise from the clamped (pushed) end: at arc length S the
@@ -84,8 +93,13 @@ namespace wirefem::fem
       v[3 * k + 1] = radius * std::sin(angle);
       v[3 * k + 2] = angle - 0.5 * M_PI;
     };
+    // Under force control nothing holds the rod but the wall: it starts
+    // pressed into it by 1e-6 d (unstrained: arc length kept), so the
+    // first Newton step has the wall's stiffness and finds the overlap the
+    // loads call for.
+    const double r_start = velocity ? Rc : Rc + 1e-6 * diameter;
     for (unsigned int k = 0; k < n_nodes; ++k)
-      place(u, k, Rc, a0 - S[k] / Rc);
+      place(u, k, r_start, a0 - S[k] / r_start);
     const unsigned int lead = n_nodes - 1;
     const double lead_angle0 = std::atan2(u[3 * lead + 1], u[3 * lead]);
 
@@ -118,9 +132,17 @@ namespace wirefem::fem
     // off the wall and, with it, its friction (-0.37% of push force at k_n =
     // 2000, mu Theta = 0.38, h = 0.125).
     //
-    // R = internal force - end loads at thrust T and step dt (friction
-    // velocities (u - u_old) / dt); K its Jacobian.
+    // Under force control (spring law only) the trailing end is free and
+    // pushed by a follower force P along its section, with the moment that
+    // holds the wall's curvature: then no dof is prescribed.
+    //
+    // R = internal force - end loads at thrust T (and push P) and step dt
+    // (friction velocities (u - u_old) / dt); K its Jacobian.
     const double held = w.bending_stiffness / Rc; // clockwise moment at the wall's curvature
+    const auto is_fixed = [&](const unsigned int j) {
+      return velocity && (j == 1 || j == 2 || (j == 0 && !cs.trailing_roller));
+    };
+    double push = 0.0;
     auto assemble = [&](const double thrust, const double dt, const bool want_tangent) {
       R = 0.0;
       if (want_tangent)
@@ -143,11 +165,21 @@ namespace wirefem::fem
         }
       penetration = 0.0;
       ContactContribution cc;
-      for (unsigned int k = cs.trailing_roller ? 0 : 1; k < n_nodes; ++k)
+      for (unsigned int k = (cs.trailing_roller || !velocity) ? 0 : 1; k < n_nodes; ++k)
         {
           const Vec2 x{u[3 * k], u[3 * k + 1]};
-          const Vec2 v0{-u_old[3 * k] / dt, -u_old[3 * k + 1] / dt};
-          if (!wall_contact(s.cavity.radius, wall, weight[k], x, v0, 1.0 / dt, cc))
+          const Vec2 xo{u_old[3 * k], u_old[3 * k + 1]};
+          bool touching;
+          if (spring)
+            {
+              SpringFriction sf;
+              touching = wall_contact_spring(s.cavity.radius, wall, weight[k], fr.tangential_stiffness_ratio,
+                                             x, xo, dt, history[k], cc, sf);
+              trial[k] = touching ? sf.history : contact::FrictionHistory{};
+            }
+          else
+            touching = wall_contact(s.cavity.radius, wall, weight[k], x, (-1.0 / dt) * xo, 1.0 / dt, cc);
+          if (!touching)
             continue;
           penetration = std::max(penetration, cc.overlap / diameter);
           for (unsigned int i = 0; i < 2; ++i)
@@ -168,6 +200,21 @@ namespace wirefem::fem
         {
           K.add(3 * lead, 3 * lead + 2, -thrust * std::sin(th));
           K.add(3 * lead + 1, 3 * lead + 2, thrust * std::cos(th));
+        }
+      if (!velocity)
+        {
+          // Trailing end: the push P along its section and the moment.
+          const double t0 = u[2];
+          R[0] -= push * std::cos(t0);
+          R[1] -= push * std::sin(t0);
+          R[2] -= held;
+          if (want_tangent)
+            {
+              K.add(0, 2, push * std::sin(t0));
+              K.add(1, 2, -push * std::cos(t0));
+            }
+          clamp_force = push;
+          return R.linfty_norm();
         }
       // The support's reaction along the section (the wall tangent) at the
       // trailing end is the axial force it transmits (compression positive).
@@ -203,12 +250,12 @@ namespace wirefem::fem
       dealii::Vector<double> rp(n_dofs), u0 = u;
       for (unsigned int j = 0; j < n_dofs; ++j)
         {
-          if (j == 1 || j == 2 || (j == 0 && !cs.trailing_roller))
+          if (is_fixed(j))
             continue;
           for (const double sign : {1.0, -1.0})
             {
               u = u0;
-              if (j == 0)
+              if (j == 0 && velocity)
                 u[0] += sign * eps * er.x, u[1] += sign * eps * er.y;
               else
                 u[j] += sign * eps;
@@ -220,7 +267,7 @@ namespace wirefem::fem
             }
           for (unsigned int i = 0; i < n_dofs; ++i)
             {
-              if (i == 1 || i == 2 || (i == 0 && !cs.trailing_roller) || !sparsity.exists(i, j))
+              if (is_fixed(i) || !sparsity.exists(i, j))
                 continue;
               worst = std::max(worst, std::abs(K.el(i, j) - rp[i] / (2.0 * eps)));
               largest = std::max(largest, std::abs(K.el(i, j)));
@@ -244,22 +291,28 @@ namespace wirefem::fem
           dealii::SparseDirectUMFPACK solver;
           solver.initialize(K);
           solver.vmult(du, R);
-          // du[0] is the radial correction of the trailing end.
-          const Vec2 er = radial();
-          const double dr = du[0];
-          du[0] = dr * er.x;
-          du[1] = dr * er.y;
+          if (velocity)
+            {
+              // du[0] is the radial correction of the trailing end.
+              const Vec2 er = radial();
+              const double dr = du[0];
+              du[0] = dr * er.x;
+              du[1] = dr * er.y;
+            }
           u -= du;
           ++out.newton_iterations;
         }
       return assemble(thrust, dt, false) < tol;
     };
 
-    const double t_end = cs.slide_time();
+    const double t_end = velocity ? cs.slide_time() : cs.maximum_time;
     const double t_average = 0.5 * (cs.ramp_time + t_end);
     // A step moves the clamp by at most a fifth of a node spacing.
     const double node_spacing = h / p;
-    double dt_max = s.fem.time_step > 0.0 ? s.fem.time_step : 0.2 * node_spacing / cs.speed;
+    // Under force control a step raises the push by at most 1% of T0.
+    double dt_max = s.fem.time_step > 0.0 ? s.fem.time_step
+                    : velocity            ? 0.2 * node_spacing / cs.speed
+                                          : 0.01 / cs.force_rate;
     if (cs.ramp_time > 0.0)
       dt_max = std::min(dt_max, 0.05 * cs.ramp_time);
     out.time_step = dt_max;
@@ -274,27 +327,43 @@ namespace wirefem::fem
       {
         const double t1 = std::min(t + dt, t_end);
         const double step = t1 - t;
-        // Predictor: the whole rod slides with the clamp.
-        const double dpsi = (cs.pushed(t1) - cs.pushed(t)) / Rc;
         u_old = u;
-        for (unsigned int k = 0; k < n_nodes; ++k)
+        if (velocity)
           {
-            const double x = u[3 * k], y = u[3 * k + 1];
-            u[3 * k] = std::cos(dpsi) * x + std::sin(dpsi) * y;
-            u[3 * k + 1] = -std::sin(dpsi) * x + std::cos(dpsi) * y;
-            u[3 * k + 2] -= dpsi;
+            // Predictor: the whole rod slides with the clamp.
+            const double dpsi = (cs.pushed(t1) - cs.pushed(t)) / Rc;
+            for (unsigned int k = 0; k < n_nodes; ++k)
+              {
+                const double x = u[3 * k], y = u[3 * k + 1];
+                u[3 * k] = std::cos(dpsi) * x + std::sin(dpsi) * y;
+                u[3 * k + 1] = -std::sin(dpsi) * x + std::cos(dpsi) * y;
+                u[3 * k + 2] -= dpsi;
+              }
+            place(u, 0, std::hypot(u[0], u[1]), a0 - cs.pushed(t1) / Rc);
           }
-        place(u, 0, std::hypot(u[0], u[1]), a0 - cs.pushed(t1) / Rc);
-        const double thrust = cs.end_force * (cs.ramp_time > 0.0 ? std::min(1.0, t1 / cs.ramp_time) : 1.0);
+        const double ramp = cs.ramp_time > 0.0 ? std::min(1.0, t1 / cs.ramp_time) : 1.0;
+        const double thrust = cs.end_force * ramp;
+        push = cs.end_force * (ramp + cs.force_rate * std::max(0.0, t1 - cs.ramp_time));
         if (!newton(thrust, step))
           {
             u = u_old;
             dt *= 0.5;
             ++out.step_cuts;
             if (dt < s.fem.minimum_time_step)
-              return out;
+              {
+                // Under force control: no equilibrium at any larger push,
+                // so the wire slips at the last one that had one.
+                if (!velocity && out.steps > 0 && t > cs.ramp_time)
+                  {
+                    out.finished = out.onset_without_equilibrium = true;
+                    out.onset_force = out.series.back()[3];
+                  }
+                out.time = t;
+                return out;
+              }
             continue;
           }
+        history = trial;
         t = t1;
         ++out.steps;
         dt = std::min(dt_max, 2.0 * dt);
@@ -308,9 +377,18 @@ namespace wirefem::fem
               profile_sum[i] += compression[i] * step;
           }
         const double lead_slide = Rc * (lead_angle0 - std::atan2(u[3 * lead + 1], u[3 * lead]));
-        out.series.push_back({{t, cs.pushed(t), lead_slide, clamp_force, compression[0]}});
+        out.series.push_back({{t, velocity ? cs.pushed(t) : 0.0, lead_slide, clamp_force, compression[0]}});
+        if (!velocity && lead_slide >= cs.slip_distance)
+          {
+            out.finished = true;
+            out.onset_force = push;
+            out.time = t;
+            return out;
+          }
       }
     out.time = t;
+    if (!velocity)
+      return out; // force control that never slipped: not finished
     out.finished = force_time > 0.0;
     if (out.finished)
       out.push_force = force_sum / force_time;

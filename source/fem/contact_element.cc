@@ -49,37 +49,50 @@ namespace wirefem::fem
     }
   } // namespace
 
+  namespace
+  {
+    /// The wall's outward normal n at x and the overlap g, with their
+    /// derivatives with respect to x: the circle, or within an opening the
+    /// corner of the mouth. Returns false when x does not touch.
+    bool wall_geometry(const double radius, const double diameter, const Vec2 &x, Fad &nx, Fad &ny, Fad &g)
+    {
+      const double half_d = 0.5 * diameter;
+      const double dist = norm(x);
+      const bool in_opening = std::abs(x.y) * radius < half_d * dist;
+      const Vec2 corner{x.x > 0.0 ? std::sqrt(radius * radius - half_d * half_d)
+                                  : -std::sqrt(radius * radius - half_d * half_d),
+                        x.y > 0.0 ? half_d : -half_d};
+      const double overlap = in_opening ? half_d - norm(corner - x) : dist + half_d - radius;
+      if (overlap <= 0.0)
+        return false;
+      const Fad px(2, 0, x.x), py(2, 1, x.y);
+      if (in_opening)
+        {
+          // n from the point towards the corner: the corner pushes along -n.
+          const Fad dx = corner.x - px, dy = corner.y - py;
+          const Fad dc = sqrt(dx * dx + dy * dy);
+          nx = dx / dc;
+          ny = dy / dc;
+          g = half_d - dc;
+        }
+      else
+        {
+          const Fad r = sqrt(px * px + py * py);
+          nx = px / r;
+          ny = py / r;
+          g = r + half_d - radius;
+        }
+      return true;
+    }
+  } // namespace
+
   bool wall_contact(const double radius, const ContactSettings &s, const double weight, const Vec2 &x,
                     const Vec2 &v0, const double c, ContactContribution &out, const double friction_scale)
   {
-    const double half_d = 0.5 * s.diameter;
-    const double dist = norm(x);
-    const bool in_opening = std::abs(x.y) * radius < half_d * dist;
-    const Vec2 corner{x.x > 0.0 ? std::sqrt(radius * radius - half_d * half_d)
-                                : -std::sqrt(radius * radius - half_d * half_d),
-                      x.y > 0.0 ? half_d : -half_d};
-    const double overlap = in_opening ? half_d - norm(corner - x) : dist + half_d - radius;
-    if (overlap <= 0.0)
-      return false;
-
-    const Fad px(2, 0, x.x), py(2, 1, x.y);
     Fad nx, ny, g;
-    if (in_opening)
-      {
-        // n from the point towards the corner: the corner pushes along -n.
-        const Fad dx = corner.x - px, dy = corner.y - py;
-        const Fad dc = sqrt(dx * dx + dy * dy);
-        nx = dx / dc;
-        ny = dy / dc;
-        g = half_d - dc;
-      }
-    else
-      {
-        const Fad r = sqrt(px * px + py * py);
-        nx = px / r;
-        ny = py / r;
-        g = r + half_d - radius;
-      }
+    if (!wall_geometry(radius, s.diameter, x, nx, ny, g))
+      return false;
+    const Fad px(2, 0, x.x), py(2, 1, x.y);
     const double k = s.stiffness * weight;
     const Fad fn = k * g;
     // Residual = - force on the point; the normal force is -fn n.
@@ -97,10 +110,63 @@ namespace wirefem::fem
       }
     out = ContactContribution{};
     out.n_points = 1;
-    out.overlap = overlap;
+    out.overlap = g.val();
     out.normal_force = fn.val();
     out.energy = 0.5 * k * g.val() * g.val();
     to_dense(2, r, rf, friction_scale, out);
+    return true;
+  }
+
+  bool wall_contact_spring(const double radius, const ContactSettings &s, const double weight,
+                           const double stiffness_ratio, const Vec2 &x, const Vec2 &x_old, const double dt,
+                           const contact::FrictionHistory &old, ContactContribution &out,
+                           SpringFriction &friction)
+  {
+    ContactSettings normal = s;
+    normal.friction = false;
+    if (!wall_contact(radius, normal, weight, x, Vec2{}, 0.0, out))
+      return false;
+    friction = SpringFriction{};
+    if (!s.friction)
+      return true;
+
+    // The normal and its force again, with derivatives.
+    Fad nx, ny, g;
+    wall_geometry(radius, s.diameter, x, nx, ny, g);
+    const Fad px(2, 0, x.x), py(2, 1, x.y);
+    const double k = s.stiffness * weight, kt = stiffness_ratio * k;
+    const Fad fn = k * g;
+    const Fad tx = -ny, ty = nx;
+    // The relative tangential displacement over the step (the wall is fixed).
+    const Fad slip = (px - x_old.x) * tx + (py - x_old.y) * ty;
+    // The cap of the step is set by the state the step starts from (sliding
+    // means: slid at v_th or faster over the last step), so within Newton's
+    // iterations the law is a fixed return map with one kink.
+    const double limit = (old.sliding ? s.mu_dynamic : s.mu_static) * fn.val();
+    const Fad trial = old.elongation + slip;
+    Fad ft = -kt * trial;
+    friction.history.elongation = trial.val();
+    friction.history.sliding = false;
+    if (std::abs(ft.val()) > limit)
+      {
+        ft = (ft.val() > 0.0 ? 1.0 : -1.0) * s.mu_dynamic * fn;
+        friction.history.elongation = -ft.val() / kt;
+        friction.history.sliding = std::abs(slip.val()) >= s.threshold_velocity * dt;
+      }
+    // As contact::friction_update: the trapezoidal work of the friction force
+    // less what the spring stores.
+    friction.dissipated =
+        0.5 * (kt * old.elongation - ft.val()) * slip.val() -
+        0.5 * kt *
+            (friction.history.elongation * friction.history.elongation - old.elongation * old.elongation);
+    const Fad rf[2] = {-ft * tx, -ft * ty};
+    for (int i = 0; i < 2; ++i)
+      {
+        out.residual[i] += rf[i].val();
+        out.friction_residual[i] = rf[i].val();
+        for (int j = 0; j < 2; ++j)
+          out.tangent[2 * i + j] += rf[i].dx(j);
+      }
     return true;
   }
 

@@ -189,7 +189,8 @@ namespace wirefem::fem
     , diameter(1.0)
     , rhoA(s.wire.mass_per_length)
     , rhoI(s.wire.mass_per_length * diameter * diameter / 16.0)
-    , channels(s.cavity.radius, s.injection.speed, s.injection.ramp_time)
+    , channels(s.cavity.radius, s.injection.speed, s.injection.ramp_time, s.injection.slow_start_speed,
+               s.injection.slow_start_length)
     , p(s.fem.degree)
     , h(s.fem.element_length)
     , fe(dealii::FE_Q<1, 2>(s.fem.degree), 3)
@@ -365,7 +366,8 @@ namespace wirefem::fem
     free_range(0.0, first_free, last_free);
     wall_time = 0.0;
     prescribe(0.0, u, nullptr, nullptr, first_free, last_free);
-    const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, 2.0 * radius);
+    const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, 2.0 * radius,
+                                        s.injection.mirror_asymmetry);
     for (int k = first_free; k < last_free; ++k)
       {
         const double xi = node_S[k] - a_left;
@@ -425,9 +427,7 @@ namespace wirefem::fem
                                  dealii::Vector<double> *acc, const int first, const int last) const
   {
     const double speed = channels.injection_speed(time);
-    const double ramp = scene.injection.ramp_time;
-    const double accel =
-        time < ramp ? 0.5 * scene.injection.speed * M_PI / ramp * std::sin(M_PI * time / ramp) : 0;
+    const double accel = channels.injection_acceleration(time);
     for (unsigned int k = 0; k < n_nodes; ++k)
       {
         const int ki = static_cast<int>(k);

@@ -237,10 +237,20 @@ namespace wirefem::scene
       d.declare("Injection/Ramp time", "10", any_double,
                 "Time over which the injection speed rises smoothly (1 - cos) from 0 to Speed: a sudden "
                 "start would send a compression wave of force sqrt(EA rho A) * Speed into the wire.");
+      d.declare("Injection/Slow start length", "0", any_double,
+                "Length (d) each channel pushes at Slow start speed before the speed rises, by the same "
+                "smooth ramp, to Speed. 0: no slow start. Lets the first arch grow quasi-statically to "
+                "the wall (a straight wire pushed fast buckles into short waves instead).");
+      d.declare("Injection/Slow start speed", "0.01", any_double,
+                "Speed (d/time) of each channel during the slow start.");
       d.declare("Injection/Seed", "1", Patterns::Integer(0), "Seed of the symmetry-breaking perturbation.");
       d.declare("Injection/Perturbation", "0.5", any_double,
                 "Amplitude (d) of the initial transverse perturbation: the clamped first buckling mode, "
                 "up or down by the seed, plus random higher modes at a tenth of it.");
+      d.declare("Injection/Mirror asymmetry", "1", any_double,
+                "Scale of the perturbation's modes that are antisymmetric about the axis midway between "
+                "the inlets: 1 as drawn by the seed, 0 a start with the mirror symmetry of the set-up "
+                "(the up/down choice stays with the seed).");
       d.declare("Injection/Maximum packing density", "0.6", any_double,
                 "Stop at this phi = d L/(pi r^2) even if not jammed. Must exceed the initial 2d/(pi r).");
       d.declare("Injection/Jamming force", "50", any_double,
@@ -306,6 +316,10 @@ namespace wirefem::scene
       d.declare("FEM/Newton tolerance", "1e-8", any_double,
                 "Newton converges when the residual norm is below this times the force scale "
                 "(EA + the largest inertial force) or the update below it times d.");
+      d.declare("FEM/Friction law", "regularised", Patterns::Selection("regularised|spring"),
+                "regularised: mu(v) tanh(v/v_th), smooth, creeps below v_th (the injection scenes). "
+                "spring: the discrete model's law (a tangential spring capped at mu_st F_n while "
+                "sticking, mu_d F_n while sliding), with a sharp slip onset; Set-up = capstan only.");
       d.declare("FEM/Maximum iterations", "15", Patterns::Integer(2, 200),
                 "Newton iterations before the step is cut.");
       d.declare("Output/Directory", "", Patterns::Anything(),
@@ -397,8 +411,11 @@ namespace wirefem::scene
       auto &in = s.injection;
       in.speed = d.get_double("Injection/Speed");
       in.ramp_time = d.get_double("Injection/Ramp time");
+      in.slow_start_length = d.get_double("Injection/Slow start length");
+      in.slow_start_speed = d.get_double("Injection/Slow start speed");
       in.seed = static_cast<unsigned int>(std::stoul(d.get("Injection/Seed")));
       in.perturbation = d.get_double("Injection/Perturbation");
+      in.mirror_asymmetry = d.get_double("Injection/Mirror asymmetry");
       in.maximum_packing_density = d.get_double("Injection/Maximum packing density");
       in.jamming_force = d.get_double("Injection/Jamming force");
       in.jamming_window = d.get_double("Injection/Jamming window");
@@ -436,6 +453,7 @@ namespace wirefem::scene
       fe.minimum_time_step = d.get_double("FEM/Minimum time step");
       fe.newton_tolerance = d.get_double("FEM/Newton tolerance");
       fe.maximum_iterations = static_cast<unsigned int>(std::stoul(d.get("FEM/Maximum iterations")));
+      fe.spring_friction = d.get("FEM/Friction law") == "spring";
       auto &o = s.output;
       o.directory = d.get("Output/Directory");
       o.interval = d.get_double("Output/Interval");
@@ -477,7 +495,16 @@ namespace wirefem::scene
       const auto &in = s.injection;
       check(in.speed > 0, w, "Injection/Speed", "must be positive");
       check(in.ramp_time >= 0, w, "Injection/Ramp time", "must not be negative");
+      check(in.slow_start_length >= 0, w, "Injection/Slow start length", "must not be negative");
+      if (in.slow_start_length > 0)
+        {
+          check(in.slow_start_speed > 0, w, "Injection/Slow start speed", "must be positive");
+          check(in.slow_start_length >= 0.5 * in.slow_start_speed * in.ramp_time, w,
+                "Injection/Slow start length",
+                "must be at least what the ramp injects, Slow start speed * Ramp time / 2");
+        }
       check(in.perturbation >= 0, w, "Injection/Perturbation", "must not be negative");
+      check(in.mirror_asymmetry >= 0, w, "Injection/Mirror asymmetry", "must not be negative");
       const double phi0 = 2.0 * s.cavity.radius / (M_PI * s.cavity.radius * s.cavity.radius);
       check(in.maximum_packing_density > phi0, w, "Injection/Maximum packing density",
             "must exceed the initial packing density 2/(pi r) = " + std::to_string(phi0));
@@ -513,9 +540,10 @@ namespace wirefem::scene
       else if (s.setup == Setup::capstan)
         {
           const auto &cs = s.capstan;
-          check(s.model == ModelType::discrete || cs.velocity_control, w, "Capstan/Control",
-                "'force' runs the discrete model only (the FEM's regularised friction creeps below the "
-                "threshold velocity: it has no sharp slip onset to measure)");
+          check(s.model == ModelType::discrete || cs.velocity_control || s.fem.spring_friction, w,
+                "Capstan/Control",
+                "'force' with Model = fem needs FEM/Friction law = spring (the regularised law creeps below "
+                "the threshold velocity: it has no sharp slip onset to measure)");
           check(!s.plastic_bending(), w, "Wire/Plasticity/Enabled",
                 "Set-up = capstan bends the wire elastically to the wall: set it false");
           check(cs.wrap_angle > 0 && cs.wrap_angle <= 2.8, w, "Capstan/Wrap angle",
@@ -558,6 +586,8 @@ namespace wirefem::scene
       check(fe.time_step >= 0, w, "FEM/Time step", "must not be negative");
       check(fe.minimum_time_step > 0, w, "FEM/Minimum time step", "must be positive");
       check(fe.newton_tolerance > 0, w, "FEM/Newton tolerance", "must be positive");
+      check(!fe.spring_friction || s.model == ModelType::discrete || s.setup == Setup::capstan, w,
+            "FEM/Friction law", "'spring' is implemented for Set-up = capstan only");
       check(s.output.interval > 0, w, "Output/Interval", "must be positive");
       check(s.output.checkpoint_interval >= 0, w, "Output/Checkpoint interval", "must not be negative");
       check(s.output.vtu_interval >= 0, w, "Output/VTU interval", "must not be negative");

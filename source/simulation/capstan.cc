@@ -83,7 +83,7 @@ namespace wirefem::simulation
                                  result.wall_time_s);
     }
 
-    /// The rod FEM's capstan (fem/capstan.h): velocity control, quasi-static.
+    /// The rod FEM's capstan (fem/capstan.h), quasi-static.
     CapstanResult run_capstan_fem(const scene::Scene &scene)
     {
       const auto wall_start = std::chrono::steady_clock::now();
@@ -95,9 +95,11 @@ namespace wirefem::simulation
                                              "wall contact", "friction", "end loads"};
       std::cout << fmt::format(
                        "wirefem: scene {} (capstan, rod FEM, quasi-static), r = {}, mu_st = {}, mu_d = "
-                       "{}, velocity control\nactive effects: {}\noutput: {}",
+                       "{}, {} control, {} friction\nactive effects: {}\noutput: {}",
                        scene.name, scene.cavity.radius, fr.wall_static_coefficient,
-                       fr.wall_dynamic_coefficient, fmt::join(effects, ", "), dir.string())
+                       fr.wall_dynamic_coefficient, cs.velocity_control ? "velocity" : "force",
+                       scene.fem.spring_friction ? "spring-law" : "regularised", fmt::join(effects, ", "),
+                       dir.string())
                 << std::endl;
       const auto sol = fem::solve_capstan(scene);
       CapstanResult result;
@@ -105,6 +107,7 @@ namespace wirefem::simulation
       result.wrap_angle = sol.wrap_angle;
       result.segments = static_cast<int>(sol.elements);
       result.push_force = sol.push_force;
+      result.onset_force = sol.onset_force;
       result.steps = sol.steps;
       result.wall_time_s =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -128,8 +131,14 @@ namespace wirefem::simulation
       j["time_step"] = sol.time_step;
       j["newton_iterations"] = sol.newton_iterations;
       j["step_cuts"] = sol.step_cuts;
+      j["friction_law"] = scene.fem.spring_friction ? "spring" : "regularised";
+      if (!cs.velocity_control)
+        {
+          j["onset_force"] = sol.onset_force;
+          j["onset_without_equilibrium"] = sol.onset_without_equilibrium;
+        }
       io::write_file_atomically(dir / "summary.json", j.dump(2) + '\n');
-      if (!result.finished)
+      if (!result.finished && cs.velocity_control)
         std::cerr << fmt::format(
             "wirefem: error: the capstan run failed at t = {:g} (Newton did not converge "
             "down to FEM/Minimum time step)\n",

@@ -121,6 +121,11 @@ namespace wirefem::simulation
                  f.wall_dynamic_coefficient, f.threshold_velocity, f.tangential_stiffness_ratio, i.speed,
                  i.ramp_time, i.seed, i.perturbation, d.segment_length, d.time_step, d.time_step_factor,
                  d.translational_damping, d.rotational_damping, s.keep_neutral_effects, d.axial_damping) +
+             (i.slow_start_length > 0
+                  ? fmt::format(" slow start {} {}", i.slow_start_speed, i.slow_start_length)
+                  : std::string()) +
+             (i.mirror_asymmetry != 1.0 ? fmt::format(" mirror asymmetry {}", i.mirror_asymmetry)
+                                        : std::string()) +
              fmt::format(" {} {} {} {} {} {} {} {} {} {}", int(s.fem.formulation), s.fem.degree,
                          s.fem.element_length, s.fem.shear_stiffness, s.fem.kirchhoff_penalty,
                          int(s.fem.integrator), s.fem.spectral_radius, s.fem.time_step,

@@ -27,9 +27,15 @@ which differ by O(zeta^2); both are computed here from the run's geometry.
 - Stick/slip threshold (force control): the push force rises slowly until
   the leading end slips. With mu_d = mu_st it must be T0 exp(mu Theta); with
   mu_d < mu_st it lies between the dynamic and the static value (the slip
-  front runs from the pushed end on dynamic friction).
+  front runs from the pushed end on dynamic friction). Both models: the FEM
+  with `FEM/Friction law = spring` (the discrete model's law: a tangential
+  spring capped at mu_st F_n while sticking), p = 1, h = 0.5, quasi-static
+  load steps; its onset is the last push with an equilibrium (the step is
+  cut down to FEM/Minimum time step) or a slide of the leading end by 0.01 d.
+  The FEM runs mu_d = mu_st only: with mu_d < mu_st the slip is a dynamic
+  event that equilibria cannot follow (see below).
 
-- The rod FEM (velocity control only; quasi-static, fem/capstan.h): the
+- The rod FEM in steady sliding (velocity control; quasi-static, fem/capstan.h): the
   same sliding cases at degree 1 (h = 2 ... 0.125) and 2 (h = 1 ... 0.25).
   Its friction law is regularised, mu(v) tanh(v / v_th); at the push speed
   it mobilises the coefficient mu_V (`sliding_coefficient`, 0.2404 for
@@ -182,31 +188,41 @@ def main():
                   f"T0 exp(mu_d Theta) = {r['reference']:.6f} (error {r['error_force']:.2e}), chain law "
                   f"{r['chain_law']:.6f} (error {r['chain_error']:.2e}), {r['wall_time_s']:.1f} s")
 
-    # Stick/slip threshold.
-    for wrap in (math.pi / 4, 3 * math.pi / 4):
-        for mu_st, mu_d in ((0.3, 0.3), (0.3, 0.24)):
-            label = f"slip onset, wrap {wrap:.4f}, mu_st {mu_st:g}, mu_d {mu_d:g}"
-            out = os.path.join(outdir, f"onset_{wrap:.4f}_{mu_d:g}")
-            s = study.run(wirefem, PRM, ["Capstan/Control=force", "Capstan/Slip distance=0.01",
-                                         f"Capstan/Wrap angle={wrap!r}"] + friction(mu_st, mu_d), out)
-            static, dynamic = continuum(s, mu_st), continuum(s, mu_d)
-            onset = s["onset_force"]
-            row = {"h": 1.0, "wrap_angle": s["wrap_angle"], "onset_force": onset, "reference": static,
-                   "dynamic_reference": dynamic, "error_force": abs(onset / static - 1.0),
-                   "wall_time_s": s["wall_time_s"]}
-            if mu_d == mu_st:
-                ok = s["finished"] and row["error_force"] <= TOL
-                what = f"T0 exp(mu Theta) = {static:.6g} within {TOL:g}"
-            else:
-                ok = s["finished"] and dynamic * (1 - TOL) <= onset <= static * (1 + TOL)
-                what = f"between T0 exp(mu_d Theta) = {dynamic:.6g} and T0 exp(mu_st Theta) = {static:.6g}"
-            if not ok:
-                failures.append(f"{label}: onset force {onset:.6g}, expected {what}")
-            cases.append({"model": "discrete", "case": label, "control": "force", "mu_static": mu_st,
-                          "mu_dynamic": mu_d, "asserted": "equal" if mu_d == mu_st else "between",
-                          "rows": [row]})
-            print(f"{label}: slipped at {onset:.6f}; T0 exp(mu_st Theta) = {static:.6f}, "
-                  f"T0 exp(mu_d Theta) = {dynamic:.6f}, {s['wall_time_s']:.1f} s")
+    # Stick/slip threshold: the discrete model, and the FEM with the spring
+    # law (FEM/Friction law = spring, p = 1, h = 0.5).
+    # The FEM's steps are equilibria, so it runs mu_d = mu_st only: with
+    # mu_d < mu_st the friction of a node that starts to slip drops from the
+    # static to the dynamic cap, and the slip front runs through the wire as
+    # a dynamic event that a sequence of equilibria cannot follow (Newton
+    # finds none right after the ramp: push 1.03 and 1.01 at pi/4, 3 pi/4).
+    onset_models = (("discrete", "", 1.0, [], ((0.3, 0.3), (0.3, 0.24))),
+                    ("fem p=1", "fem_", 0.5, ["Model=fem", "FEM/Friction law=spring", "FEM/Element length=0.5"],
+                     ((0.3, 0.3),)))
+    for model, prefix, h, extra, frictions in onset_models:
+        for wrap in (math.pi / 4, 3 * math.pi / 4):
+            for mu_st, mu_d in frictions:
+                label = f"slip onset, wrap {wrap:.4f}, mu_st {mu_st:g}, mu_d {mu_d:g}"
+                out = os.path.join(outdir, f"{prefix}onset_{wrap:.4f}_{mu_d:g}")
+                s = study.run(wirefem, PRM, ["Capstan/Control=force", "Capstan/Slip distance=0.01",
+                                             f"Capstan/Wrap angle={wrap!r}"] + friction(mu_st, mu_d) + extra, out)
+                static, dynamic = continuum(s, mu_st), continuum(s, mu_d)
+                onset = s["onset_force"]
+                row = {"h": h, "wrap_angle": s["wrap_angle"], "onset_force": onset, "reference": static,
+                       "dynamic_reference": dynamic, "error_force": abs(onset / static - 1.0),
+                       "wall_time_s": s["wall_time_s"]}
+                if mu_d == mu_st:
+                    ok = s["finished"] and row["error_force"] <= TOL
+                    what = f"T0 exp(mu Theta) = {static:.6g} within {TOL:g}"
+                else:
+                    ok = s["finished"] and dynamic * (1 - TOL) <= onset <= static * (1 + TOL)
+                    what = f"between T0 exp(mu_d Theta) = {dynamic:.6g} and T0 exp(mu_st Theta) = {static:.6g}"
+                if not ok:
+                    failures.append(f"{model} {label}: onset force {onset:.6g}, expected {what}")
+                cases.append({"model": model, "case": label, "control": "force", "mu_static": mu_st,
+                              "mu_dynamic": mu_d, "asserted": "equal" if mu_d == mu_st else "between",
+                              "rows": [row]})
+                print(f"{model} {label}: slipped at {onset:.6f}; T0 exp(mu_st Theta) = {static:.6f}, "
+                      f"T0 exp(mu_d Theta) = {dynamic:.6f}, {s['wall_time_s']:.1f} s")
 
     fem_cases(wirefem, outdir, failures, cases)
 

@@ -6,9 +6,13 @@
 // wall's curvature. Quasi-static: each step is an equilibrium of the elastic
 // rod, the penalty wall and the rate-dependent friction of the contact
 // element (velocities are backward differences over the step), solved by
-// Newton's method with a direct solver. Velocity control only: the FEM's
-// friction law is regularised (it creeps below the threshold velocity), so
-// it has no sharp stick/slip threshold to measure under force control.
+// Newton's method with a direct solver. Force control needs FEM/Friction
+// law = spring: the regularised law creeps below the threshold velocity, so
+// it has no sharp stick/slip threshold to measure. Under force control the
+// trailing end is free and pushed by a follower force that rises at
+// Capstan/Force rate; the wire has slipped once its leading end moved
+// Capstan/Slip distance, or when no equilibrium exists at a larger push
+// (the step is cut below FEM/Minimum time step): the last push that had one.
 #pragma once
 
 #include <wirefem/scene/parameters.h>
@@ -27,6 +31,8 @@ namespace wirefem::fem
     double wrap_angle = 0.0; ///< angle covered by the frictional contacts (rad)
     double push_force = 0.0; ///< axial force at the trailing end, averaged over the second half of the slide
     double push_force_peak = 0.0;
+    double onset_force = 0.0;               ///< force control: push at which the wire slipped
+    bool onset_without_equilibrium = false; ///< ... found as the last push with an equilibrium
     /// mu(V) tanh(V / v_th) of the contact law at the push speed V: the
     /// coefficient steady sliding mobilises.
     double sliding_coefficient = 0.0;

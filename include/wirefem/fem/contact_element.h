@@ -22,6 +22,7 @@
 // integrators that blend conservative forces but not dissipative ones).
 #pragma once
 
+#include <wirefem/contact/friction_law.h>
 #include <wirefem/geometry/vec2.h>
 
 #include <array>
@@ -58,6 +59,27 @@ namespace wirefem::fem
   bool wall_contact(double radius, const ContactSettings &s, double weight, const geometry::Vec2 &x,
                     const geometry::Vec2 &v0, double c, ContactContribution &out,
                     double friction_scale = 1.0);
+
+  /// Friction state of a wall contact under the spring law.
+  struct SpringFriction
+  {
+    contact::FrictionHistory history; ///< after this step (trial until committed)
+    double dissipated = 0.0;          ///< over this step
+  };
+
+  /// The wall with the discrete model's friction law (contact/friction_law.h)
+  /// instead of the regularised one: a tangential spring of stiffness
+  /// ratio * k w, elongated by the tangential part of x - x_old, capped at
+  /// mu_st F_n while sticking and at mu_d F_n while sliding. As in an
+  /// explicit step the cap is chosen from the state the step starts from:
+  /// `sliding` is set by a step that hit the cap at a tangential speed
+  /// |(x - x_old).t| / dt of at least v_th. So the contact holds exactly
+  /// below the static limit: a sharp stick/slip threshold. The tangent is
+  /// exact within the branch the current x is in.
+  bool wall_contact_spring(double radius, const ContactSettings &s, double weight, double stiffness_ratio,
+                           const geometry::Vec2 &x, const geometry::Vec2 &x_old, double dt,
+                           const contact::FrictionHistory &old, ContactContribution &out,
+                           SpringFriction &friction);
 
   /// Point x[0] against the segment x[1]-x[2] (the closest point of the
   /// segment, clamped to its ends). t: the segment parameter of the closest

@@ -5,6 +5,12 @@
 //   u(t) = v (t/2 - T/(2 pi) sin(pi t/T))   for t < T,   v (t - T/2) after,
 // and the wire inside the cavity is exactly L = 2 r + 2 u(t).
 //
+// Optional slow start: the first l0 per channel are pushed at v0 (ramped up
+// as above), then the speed rises by the same smooth ramp from v0 to v. The
+// schedule is the sum of two such ramps, the second (of height v - v0)
+// starting at t1 = l0/v0 + T/2, when the first alone has injected l0; so
+// u(t1) = l0 exactly (it needs l0 >= v0 T/2).
+//
 // A material point of the wire is labelled by its rest arc length S from the
 // inlet at t = 0, negative while it is still in the channel; at time t it is
 // at inlet + (S + u(t)) * axis as long as S + u(t) <= 0.
@@ -13,6 +19,7 @@
 #include <wirefem/geometry/vec2.h>
 
 #include <cmath>
+#include <limits>
 
 namespace wirefem::injection
 {
@@ -25,10 +32,14 @@ namespace wirefem::injection
   class Channels
   {
   public:
-    Channels(double radius, double speed, double ramp_time = 0.0)
+    Channels(double radius, double speed, double ramp_time = 0.0, double slow_speed = 0.0,
+             double slow_length = 0.0)
       : radius(radius)
-      , speed(speed)
+      , speed(slow_length > 0.0 ? slow_speed : speed)
       , ramp(ramp_time)
+      , second_speed(slow_length > 0.0 ? speed - slow_speed : 0.0)
+      , second_start(slow_length > 0.0 ? slow_length / slow_speed + 0.5 * ramp_time
+                                       : std::numeric_limits<double>::infinity())
     {
     }
 
@@ -51,20 +62,42 @@ namespace wirefem::injection
     /// Speed of each channel at time t.
     double injection_speed(double t) const
     {
-      return t < ramp ? 0.5 * speed * (1.0 - std::cos(M_PI * t / ramp)) : speed;
+      return ramp_speed(speed, t) + (t > second_start ? ramp_speed(second_speed, t - second_start) : 0.0);
+    }
+    /// d(speed)/dt of each channel at time t.
+    double injection_acceleration(double t) const
+    {
+      return ramp_acceleration(speed, t) +
+             (t > second_start ? ramp_acceleration(second_speed, t - second_start) : 0.0);
     }
     /// Length u(t) injected by each channel.
     double injected_per_channel(double t) const
     {
-      return t < ramp ? speed * (0.5 * t - ramp / (2.0 * M_PI) * std::sin(M_PI * t / ramp))
-                      : speed * (t - 0.5 * ramp);
+      return ramp_length(speed, t) + (t > second_start ? ramp_length(second_speed, t - second_start) : 0.0);
     }
     /// Wire length inside the cavity, L = 2 r + 2 u(t).
     double injected_length(double t) const { return 2.0 * radius + 2.0 * injected_per_channel(t); }
 
   private:
+    // One smooth ramp from 0 to v over T, started at t = 0.
+    double ramp_speed(double v, double t) const
+    {
+      return t < ramp ? 0.5 * v * (1.0 - std::cos(M_PI * t / ramp)) : v;
+    }
+    double ramp_acceleration(double v, double t) const
+    {
+      return t < ramp ? 0.5 * v * M_PI / ramp * std::sin(M_PI * t / ramp) : 0.0;
+    }
+    double ramp_length(double v, double t) const
+    {
+      return t < ramp ? v * (0.5 * t - ramp / (2.0 * M_PI) * std::sin(M_PI * t / ramp))
+                      : v * (t - 0.5 * ramp);
+    }
+
     double radius;
-    double speed;
+    double speed; ///< of the first ramp: the slow start's, or the only one
     double ramp;
+    double second_speed; ///< height of the second ramp (0 without a slow start)
+    double second_start; ///< its start (infinite without a slow start)
   };
 } // namespace wirefem::injection

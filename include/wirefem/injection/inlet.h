@@ -21,7 +21,9 @@ namespace wirefem::injection
   class InitialShape
   {
   public:
-    InitialShape(unsigned int seed, double amplitude, double span)
+    /// mirror_asymmetry scales the modes that are antisymmetric about the
+    /// axis between the inlets (odd m): 1 as drawn, 0 a mirror-symmetric start.
+    InitialShape(unsigned int seed, double amplitude, double span, double mirror_asymmetry = 1.0)
       : amplitude(amplitude)
       , span(span)
     {
@@ -30,7 +32,7 @@ namespace wirefem::injection
       const double sign = (gen() & 1u) ? 1.0 : -1.0;
       amp[0] = sign;
       for (int m = 1; m < 6; ++m)
-        amp[m] = 0.1 * uniform();
+        amp[m] = 0.1 * uniform() * (m % 2 ? mirror_asymmetry : 1.0);
     }
 
     /// Offset at distance xi in [0, span] from the left inlet.

@@ -160,10 +160,13 @@ namespace wirefem::scene
 
   struct InjectionParameters
   {
-    double speed = 1.0;                   ///< injection speed of each channel (d / time)
-    double ramp_time = 10.0;              ///< time over which the speed rises smoothly from 0
-    unsigned int seed = 1;                ///< seed of the symmetry-breaking perturbation
-    double perturbation = 0.5;            ///< amplitude of the initial transverse perturbation (d)
+    double speed = 1.0;             ///< injection speed of each channel (d / time)
+    double ramp_time = 10.0;        ///< time over which the speed rises smoothly from 0
+    double slow_start_speed = 0.0;  ///< speed (d / time) of the slow start
+    double slow_start_length = 0.0; ///< length (d) each channel pushes at it; 0: no slow start
+    unsigned int seed = 1;          ///< seed of the symmetry-breaking perturbation
+    double perturbation = 0.5;      ///< amplitude of the initial transverse perturbation (d)
+    double mirror_asymmetry = 1.0;  ///< scale of its modes antisymmetric about the mid-plane (0: symmetric)
     double maximum_packing_density = 0.6; ///< stop at this phi even if not jammed
     double jamming_force = 50.0;          ///< jammed when the mean inlet force exceeds this (force)
     double jamming_window = 1.0;          ///< injected length over which the force is averaged (d)
@@ -206,6 +209,8 @@ namespace wirefem::scene
     double minimum_time_step = 1e-7;
     double newton_tolerance = 1e-8; ///< on the residual norm relative to the force scale
     unsigned int maximum_iterations = 15;
+    bool spring_friction =
+        false; ///< the discrete model's friction law (capstan only) instead of the regularised one
   };
 
   struct OutputParameters
