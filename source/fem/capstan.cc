@@ -190,29 +190,27 @@ namespace wirefem::fem
                   K.add(3 * k + i, 3 * k + j, cc.tangent[2 * i + j]);
             }
         }
-      // Leading end: the compressive follower force -T (cos theta, sin
-      // theta) and the clockwise moment that holds the wall's curvature.
-      const double th = u[3 * lead + 2];
-      R[3 * lead] += thrust * std::cos(th);
-      R[3 * lead + 1] += thrust * std::sin(th);
+      // A follower force -f (cos theta, sin theta) along the section at
+      // node k, with its derivative with respect to the section angle.
+      const auto follower = [&](const unsigned int k, const double f) {
+        const double th = u[3 * k + 2];
+        R[3 * k] += f * std::cos(th);
+        R[3 * k + 1] += f * std::sin(th);
+        if (want_tangent)
+          {
+            K.add(3 * k, 3 * k + 2, -f * std::sin(th));
+            K.add(3 * k + 1, 3 * k + 2, f * std::cos(th));
+          }
+      };
+      // Leading end: the compressive follower force T and the clockwise
+      // moment that holds the wall's curvature.
+      follower(lead, thrust);
       R[3 * lead + 2] += held;
-      if (want_tangent)
-        {
-          K.add(3 * lead, 3 * lead + 2, -thrust * std::sin(th));
-          K.add(3 * lead + 1, 3 * lead + 2, thrust * std::cos(th));
-        }
       if (!velocity)
         {
           // Trailing end: the push P along its section and the moment.
-          const double t0 = u[2];
-          R[0] -= push * std::cos(t0);
-          R[1] -= push * std::sin(t0);
+          follower(0, -push);
           R[2] -= held;
-          if (want_tangent)
-            {
-              K.add(0, 2, push * std::sin(t0));
-              K.add(1, 2, -push * std::cos(t0));
-            }
           clamp_force = push;
           return R.linfty_norm();
         }

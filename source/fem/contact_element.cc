@@ -86,34 +86,58 @@ namespace wirefem::fem
     }
   } // namespace
 
+  namespace
+  {
+    /// A point touching the wall: its coordinates, the wall's normal and
+    /// tangent there, the overlap and the normal force, with derivatives.
+    struct WallPoint
+    {
+      Fad px, py, nx, ny, g, fn;
+      double k = 0.0; ///< penalty k w
+    };
+
+    bool wall_point(const double radius, const ContactSettings &s, const double weight, const Vec2 &x,
+                    WallPoint &w)
+    {
+      if (!wall_geometry(radius, s.diameter, x, w.nx, w.ny, w.g))
+        return false;
+      w.px = Fad(2, 0, x.x);
+      w.py = Fad(2, 1, x.y);
+      w.k = s.stiffness * weight;
+      w.fn = w.k * w.g;
+      return true;
+    }
+
+    /// The contribution of the normal penalty plus the friction residual rf.
+    void finish_wall(const WallPoint &w, const Fad *rf, const double friction_scale, ContactContribution &out)
+    {
+      // Residual = - force on the point; the normal force is -fn n.
+      const Fad r[2] = {w.fn * w.nx + rf[0], w.fn * w.ny + rf[1]};
+      out = ContactContribution{};
+      out.n_points = 1;
+      out.overlap = w.g.val();
+      out.normal_force = w.fn.val();
+      out.energy = 0.5 * w.k * w.g.val() * w.g.val();
+      to_dense(2, r, rf, friction_scale, out);
+    }
+  } // namespace
+
   bool wall_contact(const double radius, const ContactSettings &s, const double weight, const Vec2 &x,
                     const Vec2 &v0, const double c, ContactContribution &out, const double friction_scale)
   {
-    Fad nx, ny, g;
-    if (!wall_geometry(radius, s.diameter, x, nx, ny, g))
+    WallPoint w;
+    if (!wall_point(radius, s, weight, x, w))
       return false;
-    const Fad px(2, 0, x.x), py(2, 1, x.y);
-    const double k = s.stiffness * weight;
-    const Fad fn = k * g;
-    // Residual = - force on the point; the normal force is -fn n.
-    Fad r[2] = {fn * nx, fn * ny};
     Fad rf[2] = {0.0, 0.0};
     if (s.friction)
       {
-        const Fad tx = -ny, ty = nx;
-        const Fad vx = c * px + v0.x, vy = c * py + v0.y;
-        const Fad ft = friction_force<Fad>(s, fn, Fad(vx * tx + vy * ty));
+        const Fad tx = -w.ny, ty = w.nx;
+        const Fad vx = c * w.px + v0.x, vy = c * w.py + v0.y;
+        const Fad ft = friction_force<Fad>(s, w.fn, Fad(vx * tx + vy * ty));
         rf[0] = -ft * tx;
         rf[1] = -ft * ty;
-        r[0] += rf[0];
-        r[1] += rf[1];
       }
-    out = ContactContribution{};
-    out.n_points = 1;
-    out.overlap = g.val();
-    out.normal_force = fn.val();
-    out.energy = 0.5 * k * g.val() * g.val();
-    to_dense(2, r, rf, friction_scale, out);
+    finish_wall(w, rf, friction_scale, out);
     return true;
   }
 
@@ -122,51 +146,42 @@ namespace wirefem::fem
                            const contact::FrictionHistory &old, ContactContribution &out,
                            SpringFriction &friction)
   {
-    ContactSettings normal = s;
-    normal.friction = false;
-    if (!wall_contact(radius, normal, weight, x, Vec2{}, 0.0, out))
+    WallPoint w;
+    if (!wall_point(radius, s, weight, x, w))
       return false;
     friction = SpringFriction{};
-    if (!s.friction)
-      return true;
-
-    // The normal and its force again, with derivatives.
-    Fad nx, ny, g;
-    wall_geometry(radius, s.diameter, x, nx, ny, g);
-    const Fad px(2, 0, x.x), py(2, 1, x.y);
-    const double k = s.stiffness * weight, kt = stiffness_ratio * k;
-    const Fad fn = k * g;
-    const Fad tx = -ny, ty = nx;
-    // The relative tangential displacement over the step (the wall is fixed).
-    const Fad slip = (px - x_old.x) * tx + (py - x_old.y) * ty;
-    // The cap of the step is set by the state the step starts from (sliding
-    // means: slid at v_th or faster over the last step), so within Newton's
-    // iterations the law is a fixed return map with one kink.
-    const double limit = (old.sliding ? s.mu_dynamic : s.mu_static) * fn.val();
-    const Fad trial = old.elongation + slip;
-    Fad ft = -kt * trial;
-    friction.history.elongation = trial.val();
-    friction.history.sliding = false;
-    if (std::abs(ft.val()) > limit)
+    Fad rf[2] = {0.0, 0.0};
+    if (s.friction)
       {
-        ft = (ft.val() > 0.0 ? 1.0 : -1.0) * s.mu_dynamic * fn;
-        friction.history.elongation = -ft.val() / kt;
-        friction.history.sliding = std::abs(slip.val()) >= s.threshold_velocity * dt;
+        const double kt = stiffness_ratio * w.k;
+        const Fad tx = -w.ny, ty = w.nx;
+        // The relative tangential displacement over the step (the wall is fixed).
+        const Fad slip = (w.px - x_old.x) * tx + (w.py - x_old.y) * ty;
+        // The cap of the step is set by the state the step starts from
+        // (sliding means: slid at v_th or faster over the last step), so
+        // within Newton's iterations the law is a fixed return map with one
+        // kink.
+        const double limit = (old.sliding ? s.mu_dynamic : s.mu_static) * w.fn.val();
+        const Fad trial = old.elongation + slip;
+        Fad ft = -kt * trial;
+        friction.history.elongation = trial.val();
+        friction.history.sliding = false;
+        if (std::abs(ft.val()) > limit)
+          {
+            ft = (ft.val() > 0.0 ? 1.0 : -1.0) * s.mu_dynamic * w.fn;
+            friction.history.elongation = -ft.val() / kt;
+            friction.history.sliding = std::abs(slip.val()) >= s.threshold_velocity * dt;
+          }
+        // As contact::friction_update: the trapezoidal work of the friction
+        // force less what the spring stores.
+        friction.dissipated =
+            0.5 * (kt * old.elongation - ft.val()) * slip.val() -
+            0.5 * kt *
+                (friction.history.elongation * friction.history.elongation - old.elongation * old.elongation);
+        rf[0] = -ft * tx;
+        rf[1] = -ft * ty;
       }
-    // As contact::friction_update: the trapezoidal work of the friction force
-    // less what the spring stores.
-    friction.dissipated =
-        0.5 * (kt * old.elongation - ft.val()) * slip.val() -
-        0.5 * kt *
-            (friction.history.elongation * friction.history.elongation - old.elongation * old.elongation);
-    const Fad rf[2] = {-ft * tx, -ft * ty};
-    for (int i = 0; i < 2; ++i)
-      {
-        out.residual[i] += rf[i].val();
-        out.friction_residual[i] = rf[i].val();
-        for (int j = 0; j < 2; ++j)
-          out.tangent[2 * i + j] += rf[i].dx(j);
-      }
+    finish_wall(w, rf, 1.0, out);
     return true;
   }
 

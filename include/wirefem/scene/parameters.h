@@ -209,8 +209,7 @@ namespace wirefem::scene
     double minimum_time_step = 1e-7;
     double newton_tolerance = 1e-8; ///< on the residual norm relative to the force scale
     unsigned int maximum_iterations = 15;
-    bool spring_friction =
-        false; ///< the discrete model's friction law (capstan only) instead of the regularised one
+    bool spring_friction = false; ///< the discrete model's friction law (capstan only)
   };
 
   struct OutputParameters
