@@ -7,6 +7,7 @@
 #include <wirefem/simulation/capstan.h>
 #include <wirefem/simulation/simulation.h>
 #include <wirefem/simulation/sweep.h>
+#include <wirefem/version.h>
 
 #include <CLI/CLI.hpp>
 #include <deal.II/base/mpi.h>
@@ -16,7 +17,7 @@
 namespace
 {
   /// Parses the command line: -1 to go on, else the exit status (0 after
-  /// --help, 2 for a bad command line, reported as "NAME: error: ...").
+  /// --help or --version, 2 for a bad command line, reported as "NAME: error: ...").
   int parse(CLI::App &app, int argc, char **argv, const char *name)
   {
     try
@@ -25,6 +26,10 @@ namespace
         return -1;
       }
     catch (const CLI::CallForHelp &e)
+      {
+        return app.exit(e);
+      }
+    catch (const CLI::CallForVersion &e)
       {
         return app.exit(e);
       }
@@ -114,6 +119,7 @@ int main(int argc, char **argv)
   app.add_option("--set", overrides, "Override a key: \"Section/Key=value\" (repeatable)")
       ->allow_extra_args(false)
       ->take_all();
+  app.set_version_flag("--version", std::string("wirefem ") + wirefem::version());
   app.add_flag("--print-parameters", print, "Print every key with its default and documentation");
   app.add_flag("--resume", resume, "Continue an interrupted run from its output directory's checkpoint.bin");
   if (const int status = parse(app, argc, argv, "wirefem"); status >= 0)

@@ -15,3 +15,12 @@ string(JSON failed GET "${summary}" failed)
 if(failed)
   message(FATAL_ERROR "run stopped by a numerical limit: ${summary}")
 endif()
+# The summary names the code that made it: the version `wirefem --version`
+# prints, with a commit.
+execute_process(COMMAND ${EXE} --version RESULT_VARIABLE rc OUTPUT_VARIABLE printed
+                OUTPUT_STRIP_TRAILING_WHITESPACE)
+string(JSON recorded ERROR_VARIABLE missing GET "${summary}" version)
+if(NOT rc EQUAL 0 OR missing OR NOT recorded MATCHES "^[0-9]+\\.[0-9]+\\.[0-9]+ \\(commit [^)]+\\)$"
+   OR NOT printed STREQUAL "wirefem ${recorded}")
+  message(FATAL_ERROR "summary.json version '${recorded}' (${missing}) is not that of --version '${printed}' (exit ${rc})")
+endif()

@@ -2,6 +2,7 @@
 #include <wirefem/fem/cantilever.h>
 #include <wirefem/io/atomic_file.h>
 #include <wirefem/simulation/cantilever.h>
+#include <wirefem/version.h>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -232,6 +233,7 @@ namespace wirefem::simulation
     j["converged"] = result.converged;
     j["wall_time_s"] = result.wall_time_s;
     j["active_effects"] = r.effects;
+    j["version"] = version();
     j["plastic_work"] = r.history.empty() ? 0.0 : r.history.back()[4];
     j["energy"] = {{"bending", r.bending}, {"stretching", r.stretching}, {"shear", r.shear}};
     io::write_file_atomically(dir / "summary.json", j.dump(2) + '\n');

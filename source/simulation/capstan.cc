@@ -2,6 +2,7 @@
 #include <wirefem/fem/capstan.h>
 #include <wirefem/io/atomic_file.h>
 #include <wirefem/simulation/capstan.h>
+#include <wirefem/version.h>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -60,6 +61,7 @@ namespace wirefem::simulation
       j["steps"] = result.steps;
       j["wall_time_s"] = result.wall_time_s;
       j["active_effects"] = effects;
+      j["version"] = version();
       return j;
     }
 

@@ -9,6 +9,7 @@
 #include <wirefem/io/vtu_writer.h>
 #include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/simulation.h>
+#include <wirefem/version.h>
 
 #include <nlohmann/json.hpp>
 
@@ -216,8 +217,8 @@ namespace wirefem::simulation
     if (options.resume)
       read_checkpoint(checkpoint_file, scene, loop, pvd, model);
     fs::create_directories(dir);
-    std::cout << fmt::format("wirefem: scene {} ({} model), f = r/d = {}, {}\n", scene.name, model.name(), r,
-                             model.description())
+    std::cout << fmt::format("wirefem {}: scene {} ({} model), f = r/d = {}, {}\n", version(), scene.name,
+                             model.name(), r, model.description())
               << "active effects: " << join(model.active_effects()) << '\n'
               << "output: " << dir.string() << std::endl;
 
@@ -427,6 +428,7 @@ namespace wirefem::simulation
     j["time_step"] = model.time_step();
     j["wall_time_s"] = result.wall_time_s;
     j["active_effects"] = model.active_effects();
+    j["version"] = version();
     j["max_penetration"] = result.max_penetration;
     j["energy"] = {{"initial", e.initial},
                    {"injection_work", e.injection_work},
