@@ -204,6 +204,31 @@ namespace
       }
   }
 
+  // The boxes' gap never exceeds the distance (random pairs, some far
+  // apart), and it is the distance for segments side by side along an axis.
+  TEST(SegmentDistance, BoxGapIsALowerBoundThatIsTightSideBySide)
+  {
+    using wirefem::contact::box_gap;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-2.0, 2.0), shift(-6.0, 6.0);
+    int separated = 0;
+    for (int n = 0; n < 2000; ++n)
+      {
+        const Vec2 o{shift(rng), shift(rng)};
+        const Vec2 a0{u(rng), u(rng)}, a1{u(rng), u(rng)};
+        const Vec2 b0 = o + Vec2{u(rng), u(rng)}, b1 = o + Vec2{u(rng), u(rng)};
+        const double gap = box_gap(a0, a1, b0, b1);
+        EXPECT_LE(gap, closest_points(a0, a1, b0, b1).distance + 1e-14);
+        EXPECT_DOUBLE_EQ(gap, box_gap(b1, b0, a1, a0));
+        separated += gap > 0.0;
+      }
+    EXPECT_GT(separated, 500); // the bound is exercised where it matters
+    // Two vertical segments 1.5 apart with overlapping heights: gap = distance.
+    EXPECT_DOUBLE_EQ(box_gap({0.0, 0.0}, {0.0, 2.0}, {1.5, 1.0}, {1.5, 3.0}), 1.5);
+    EXPECT_DOUBLE_EQ(box_gap({0.0, 2.0}, {0.0, 0.0}, {-1.0, -0.5}, {1.0, -0.5}), 0.5);
+    EXPECT_LT(box_gap({0.0, 0.0}, {2.0, 2.0}, {0.0, 2.0}, {2.0, 0.0}), 0.0); // crossing
+  }
+
   // d distance / d(a0, a1, b0, b1) = n (1-s), n s, -n (1-t), -n t with
   // n = (p - q) / |p - q|, using the s, t the code returns.
   TEST(SegmentDistance, GradientMatchesFiniteDifference)

@@ -142,6 +142,10 @@ namespace wirefem::discrete
     for (const auto &pair : broad.candidates())
       {
         const int i = pair.i, j = pair.j;
+        // Most candidates are apart by more than d; their boxes say so cheaply
+        // (with a margin far above rounding, so no contact is ever skipped).
+        if (contact::box_gap(c.x[i], c.x[i + 1], c.x[j], c.x[j + 1]) > (1.0 + 1e-9) * law.diameter)
+          continue;
         const auto cp = contact::closest_points(c.x[i], c.x[i + 1], c.x[j], c.x[j + 1]);
         if (cp.distance >= law.diameter)
           continue;

@@ -151,8 +151,16 @@ namespace wirefem::discrete
 
   void CurvatureLimitTerm::add_forces(Chain &c, double, StepEnergy &e)
   {
+    // |zeta| is the angle between the segments, so |zeta| <= zeta_max while
+    // a.b >= cos(zeta_max) |a| |b|: that test (with a margin far above
+    // rounding) spares the atan2 at almost every node.
+    const double cos_max = std::cos(zeta_max);
     for (int k = c.first + 1; k < c.last - 1; ++k)
       {
+        const Vec2 a = c.x[k] - c.x[k - 1], b = c.x[k + 1] - c.x[k];
+        const double ab = std::sqrt(norm_square(a) * norm_square(b));
+        if (dot(a, b) - cos_max * ab > 1e-9 * ab)
+          continue;
         const TurningAngle angle(c, k);
         const double excess = std::abs(angle.zeta) - zeta_max;
         if (excess <= 0.0)
