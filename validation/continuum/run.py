@@ -21,9 +21,19 @@ coarse chains, and a finer chain costs about 30 times more because the
 explicit rotational dashpot c_r = eta_b/lambda_0 sets its time step), so
 no order is asserted.
 
-    validation/continuum/run.py WIREFEM OUTDIR
+What accuracy costs in time: each run's error is the largest relative
+difference of its W(L) from the finest FEM's (p = 2, h = 1/8) over the five
+L, plotted against its wall time (work_precision.png). The reference's own
+uncertainty is estimated by its difference from the FEM at h = 1/4; errors
+below that are not resolved.
+
+    validation/continuum/run.py WIREFEM OUTDIR [--reuse]
+
+--reuse takes runs whose output directory already holds a summary.json
+instead of running them again (to redo the analysis and figures only).
 """
 import csv
+import json
 import os
 import sys
 
@@ -69,15 +79,38 @@ def window_force(s, a, b):
     return sum(f) / len(f) if f else float("nan")
 
 
+def add_errors(cases):
+    """error_work on every row but the reference (the finest FEM p = 2): the
+    largest relative difference of W from the reference's over LENGTHS; and
+    the reference's own uncertainty, its difference from the next coarser."""
+    fem = next(c for c in cases if c["model"] == "fem p=2")["rows"]
+    ref = fem[-1]["work"]
+
+    def error(work):
+        return max(abs(w / r - 1.0) for w, r in zip(work, ref))
+
+    for c in cases:
+        for r in c["rows"]:
+            if r is not fem[-1]:
+                r["error_work"] = error(r["work"])
+    return error(fem[-2]["work"])
+
+
 def main():
     wirefem, outdir = sys.argv[1], sys.argv[2]
+    reuse = "--reuse" in sys.argv[3:]
     os.makedirs(outdir, exist_ok=True)
     failures, cases = [], []
     for model, hs, sets in FAMILIES:
         rows = []
         for h in hs:
             out = os.path.join(outdir, f"{model.replace(' ', '_').replace('=', '')}_{h:g}")
-            summary = study.run(wirefem, PRM, sets(h), out)
+            done = os.path.join(out, "summary.json")
+            if reuse and os.path.exists(done):
+                with open(done) as fh:
+                    summary = json.load(fh)
+            else:
+                summary = study.run(wirefem, PRM, sets(h), out)
             s = read_series(out)
             L = s["injected_length"]
             rows.append({"h": h, "wall_time_s": summary["wall_time_s"],
@@ -106,9 +139,12 @@ def main():
             failures.append(f"at L = {x:g}: W of the discrete chain (lambda_0 = {d['h']:g}) {d['work'][j]:.5g} and "
                             f"of the FEM (p = 2, h = {f['h']:g}) {f['work'][j]:.5g} differ by {gap:.2e} > {TOL:g}")
     print("finest discrete against finest FEM, relative difference of W: " + ", ".join(f"{g:.2e}" for g in gaps))
+    uncertainty = add_errors(cases)
+    print(f"reference (fem p=2, h = {f['h']:g}) uncertainty: {uncertainty:.2e}")
     study.write(outdir, {"validation": "continuum", "lengths": list(LENGTHS), "tolerance": TOL, "gaps": gaps,
-                         "cases": cases, "failures": failures})
+                         "reference_uncertainty": uncertainty, "cases": cases, "failures": failures})
     plot(cases, os.path.join(outdir, "convergence.png"))
+    plot_work_precision(cases, uncertainty, os.path.join(outdir, "work_precision.png"))
     return 1 if failures else 0
 
 
@@ -132,6 +168,28 @@ def plot(cases, filename):
     b.set_xlabel("injected length L (d)")
     b.set_ylabel("mean inlet force over L +- 1")
     b.set_title("inlet force (window means)")
+    fig.tight_layout()
+    fig.savefig(filename, dpi=100)
+
+
+def plot_work_precision(cases, uncertainty, filename):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    colours = {"discrete": "C0", "fem p=1": "C1", "fem p=2": "C2"}
+    for c in cases:
+        rows = [r for r in c["rows"] if "error_work" in r]
+        ax.loglog([r["wall_time_s"] for r in rows], [r["error_work"] for r in rows], "o-",
+                  color=colours[c["model"]], label=c["model"])
+        for r in rows:
+            ax.annotate(f"{r['h']:g}", (r["wall_time_s"], r["error_work"]), fontsize=7,
+                        textcoords="offset points", xytext=(4, 2))
+    ax.axhline(uncertainty, color="grey", ls=":", label="reference uncertainty")
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel("max relative error of W(L), L = 22 ... 30")
+    ax.set_title("case 8: work-precision (labels: lambda_0 or h)")
+    ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(filename, dpi=100)
 
