@@ -1,0 +1,23 @@
+# The README's test line is the one .ci/run runs, verbatim and on a line of
+# its own, and the README still opens with its title (a formatter run over
+# the Markdown once mangled both).
+cmake_policy(SET CMP0007 NEW)
+file(STRINGS ${SOURCE_DIR}/.ci/run ci_lines)
+set(command "")
+foreach(line IN LISTS ci_lines)
+  if(NOT line MATCHES "^#" AND NOT line MATCHES "^set " AND NOT line MATCHES "^cd " AND NOT line STREQUAL "")
+    set(command "${line}")
+  endif()
+endforeach()
+if(command STREQUAL "")
+  message(FATAL_ERROR ".ci/run runs no command")
+endif()
+file(STRINGS ${SOURCE_DIR}/README.md readme)
+list(GET readme 0 title)
+if(NOT title STREQUAL "# wirefem")
+  message(FATAL_ERROR "README.md does not open with '# wirefem' but '${title}'")
+endif()
+list(FIND readme "${command}" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "README.md has no line '${command}' (the command of .ci/run)")
+endif()
