@@ -25,11 +25,7 @@ namespace
         app.parse(argc, argv);
         return -1;
       }
-    catch (const CLI::CallForHelp &e)
-      {
-        return app.exit(e);
-      }
-    catch (const CLI::CallForVersion &e)
+    catch (const CLI::Success &e) // --help, --version
       {
         return app.exit(e);
       }

@@ -83,6 +83,12 @@ COMMON = ("Each model is compared with the elastica of its own axial (and for th
           "p + 1 - {order_slack} (p = 2, 3). Errors below {floor:g} are round-off and give no order.")
 
 
+def cheapest(rows, key, level):
+    """The row of least wall time whose key is at most level, or None."""
+    ok = [r for r in rows if r.get(key, float("inf")) <= level]
+    return min(ok, key=lambda r: r["wall_time_s"]) if ok else None
+
+
 def orders(rows, key):
     vals = [f"{r['order_' + key[6:]]:.2f}" if "order_" + key[6:] in r else "-" for r in rows[1:]]
     return ", ".join(vals) if any(v != "-" for v in vals) else "-"
@@ -114,8 +120,7 @@ def continuum_section(res, figures):
         for c in res["cases"]:
             cells = []
             for lv in LEVELS:
-                ok = [r for r in c["rows"] if r.get("error_work", float("inf")) <= lv]
-                best = min(ok, key=lambda r: r["wall_time_s"]) if ok else None
+                best = cheapest(c["rows"], "error_work", lv)
                 cells.append("n/r" if lv < u else
                              f"h = {best['h']:g}: {best['error_work']:.1e}, {best['wall_time_s']:.1f} s" if best
                              else "-")
@@ -129,9 +134,6 @@ def continuum_section(res, figures):
                 "few percent, the FEM below. The chain "
                 "at lambda_0 = 1, the paper's model, is the cheap one when the discrete wire itself is the "
                 "object of study (README, Cost).", ""]
-        if os.path.exists(os.path.join(os.path.dirname(os.path.abspath(__file__)), "figures",
-                                       "continuum-work-precision.png")):
-            figures = figures + ["continuum-work-precision.png"]
     out += [f"![{f}](figures/{f})" for f in figures]
     if res["failures"]:
         out += ["", "**Failures:**", ""] + [f"- {m}" for m in res["failures"]]
@@ -176,8 +178,7 @@ def section(study, res, figures):
     for c in res["cases"]:
         cells = []
         for lv in LEVELS:
-            ok = [r for r in c["rows"] if r[key] <= lv]
-            best = min(ok, key=lambda r: r["wall_time_s"]) if ok else None
+            best = cheapest(c["rows"], key, lv)
             cells.append(f"h = {best['h']:g}, {best['wall_time_s'] * 1000:.0f} ms" if best else "-")
         out.append(f"| {c['case']} | {c['model']} | " + " | ".join(cells) + " |")
     if len(models) > 1:
@@ -186,8 +187,8 @@ def section(study, res, figures):
     for lv in LEVELS if len(models) > 1 else ():
         cost = {}
         for c in res["cases"]:
-            ok = [r["wall_time_s"] for r in c["rows"] if r[key] <= lv]
-            cost[c["model"]] = max(cost.get(c["model"], 0.0), min(ok) if ok else float("inf"))
+            best = cheapest(c["rows"], key, lv)
+            cost[c["model"]] = max(cost.get(c["model"], 0.0), best["wall_time_s"] if best else float("inf"))
         best = min(cost, key=cost.get)
         others = ", ".join(f"{m} {'-' if v == float('inf') else f'{v * 1000:.0f} ms'}" for m, v in cost.items())
         out.append(f"- {lv:g}: **{best}** ({others})")
@@ -234,6 +235,7 @@ def main():
         src = os.path.join(results_dir, study, "work_precision.png")
         if os.path.exists(src):
             shutil.copy(src, os.path.join(figures_dir, f"{study}-work-precision.png"))
+            figs.append(f"{study}-work-precision.png")
         lines += section(study, res, figs)
         versions = sorted({json.load(open(f)).get("version", "not recorded")
                            for f in glob.glob(os.path.join(results_dir, study, "*", "summary.json"))})

@@ -27,12 +27,17 @@ ORDER_SLACK = 0.2
 FLOOR = 1e-9
 
 
-def run(wirefem, prm, sets, out):
-    cmd = [wirefem, prm, "--set", f"Output/Directory={out}"]
-    for s in sets:
-        cmd += ["--set", s]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-    with open(os.path.join(out, "summary.json")) as f:
+def run(wirefem, prm, sets, out, reuse=False):
+    """Runs wirefem on prm with the overrides into out and returns its
+    summary; with reuse, a run whose out already holds a summary.json is
+    taken as it is (to redo an analysis without running again)."""
+    summary = os.path.join(out, "summary.json")
+    if not (reuse and os.path.exists(summary)):
+        cmd = [wirefem, prm, "--set", f"Output/Directory={out}"]
+        for s in sets:
+            cmd += ["--set", s]
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    with open(summary) as f:
         return json.load(f)
 
 

@@ -33,7 +33,6 @@ below that are not resolved.
 instead of running them again (to redo the analysis and figures only).
 """
 import csv
-import json
 import os
 import sys
 
@@ -105,12 +104,7 @@ def main():
         rows = []
         for h in hs:
             out = os.path.join(outdir, f"{model.replace(' ', '_').replace('=', '')}_{h:g}")
-            done = os.path.join(out, "summary.json")
-            if reuse and os.path.exists(done):
-                with open(done) as fh:
-                    summary = json.load(fh)
-            else:
-                summary = study.run(wirefem, PRM, sets(h), out)
+            summary = study.run(wirefem, PRM, sets(h), out, reuse)
             s = read_series(out)
             L = s["injected_length"]
             rows.append({"h": h, "wall_time_s": summary["wall_time_s"],
