@@ -127,9 +127,42 @@ namespace wirefem::discrete
     , broad(law.diameter, skin, exclusion)
   {
     require_capacity(law, capacity, "SelfContactTerm");
+    // Two wires side by side meet node by node both ways, so each contact
+    // carries half the penalty (and half the sticking spring): k_n per unit
+    // length in all, as one wire on the cavity wall.
+    this->law.normal_stiffness *= 0.5;
+    this->law.coefficients.tangential_stiffness *= 0.5;
     if (law.friction)
       friction_work.resize(capacity);
   }
+
+  namespace
+  {
+    /// The point of the segment (a, b) closest to p; at either end the end
+    /// node itself, so that two segments meeting at a node report exactly
+    /// the same distance from it.
+    struct PointOnSegment
+    {
+      double t;
+      Vec2 q;
+      double distance;
+    };
+
+    PointOnSegment closest_on_segment(const Vec2 &p, const Vec2 &a, const Vec2 &b)
+    {
+      const Vec2 e = b - a;
+      const double ee = dot(e, e);
+      double t = ee > 0.0 ? dot(p - a, e) / ee : 0.0;
+      Vec2 q;
+      if (t <= 0.0)
+        t = 0.0, q = a;
+      else if (t >= 1.0)
+        t = 1.0, q = b;
+      else
+        q = a + t * e;
+      return {t, q, norm(p - q)};
+    }
+  } // namespace
 
   void SelfContactTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
@@ -138,68 +171,92 @@ namespace wirefem::discrete
     trial_history.clear();
     if (law.friction)
       friction_work.begin(c);
-    const int last_segment = c.last - 2;
+    const int first_segment = c.first, last_segment = c.last - 2;
+    // Node k may touch segment m when the segment's nearer node is more than
+    // the exclusion window away along the wire (the same for m < k and m > k).
+    const auto allowed = [&](const int k, const int m) {
+      return m >= first_segment && m <= last_segment && (m > k ? m - k : k - m - 1) > exclusion;
+    };
     for (const auto &pair : broad.candidates())
       {
-        const int i = pair.i, j = pair.j;
         // Most candidates are apart by more than d; their boxes say so cheaply
         // (with a margin far above rounding, so no contact is ever skipped).
-        if (contact::box_gap(c.x[i], c.x[i + 1], c.x[j], c.x[j + 1]) > (1.0 + 1e-9) * law.diameter)
+        if (contact::box_gap(c.x[pair.i], c.x[pair.i + 1], c.x[pair.j], c.x[pair.j + 1]) >
+            (1.0 + 1e-9) * law.diameter)
           continue;
-        const auto cp = contact::closest_points(c.x[i], c.x[i + 1], c.x[j], c.x[j + 1]);
-        if (cp.distance >= law.diameter)
-          continue;
-        // A closest point at the far end of a segment is the near end of the
-        // next one, which reports the same contact (or a closer one) - unless
-        // that next pair lies inside the exclusion window.
-        if ((cp.s >= 1.0 && i < last_segment && j - (i + 1) > exclusion) || (cp.t >= 1.0 && j < last_segment))
-          continue;
-        const double overlap = law.diameter - cp.distance;
-        e.max_penetration = std::max(e.max_penetration, overlap);
-        if (cp.distance < 1e-12 * law.diameter)
-          continue; // centrelines cross: no normal; reported through max_penetration
-        const Vec2 n = (1.0 / cp.distance) * (cp.p - cp.q); // from B towards A
-        const double fn = law.normal_stiffness * overlap;
-        Vec2 fa = fn * n;
-        e.contact += 0.5 * law.normal_stiffness * overlap * overlap;
-        if (law.friction)
+        // The first node of each segment of a candidate pair against the
+        // other segment (and the chain's last node, which begins no
+        // segment), so every node meets every segment near it exactly once.
+        for (int which = 0; which < 3; ++which)
           {
-            const Vec2 t = perp(n);
-            const Vec2 va = (1.0 - cp.s) * c.v[i] + cp.s * c.v[i + 1];
-            const Vec2 vb = (1.0 - cp.t) * c.v[j] + cp.t * c.v[j + 1];
-            const double vt = dot(va - vb, t);
-            // A contact that slides across a node moves to the neighbouring
-            // segment pair: it keeps its history.
-            contact::FrictionHistory old;
-            for (const auto k : {key(i, j), key(i - 1, j), key(i + 1, j), key(i, j - 1), key(i, j + 1)})
-              if (const auto it = history.find(k); it != history.end() && !it->second.taken)
-                {
-                  old = it->second.history;
-                  it->second.taken = true;
-                  break;
-                }
-            const auto r = contact::friction_update(law.coefficients, fn, vt, dt, old);
-            const Vec2 ft = r.force * t;
-            fa += ft;
-            friction_work.add_force(i, (1.0 - cp.s) * ft);
-            friction_work.add_force(i + 1, cp.s * ft);
-            friction_work.add_force(j, -(1.0 - cp.t) * ft);
-            friction_work.add_force(j + 1, -cp.t * ft);
-            const double stored =
-                0.5 * law.coefficients.tangential_stiffness * r.history.elongation * r.history.elongation;
-            e.friction_stored += stored;
-            friction_work.add_stored(stored);
-            trial_history[key(i, j)] = {r.history, false};
+            const bool i_on_j = which == 0;
+            const int k = which == 0 ? pair.i : which == 1 ? pair.j : pair.j + 1;
+            const int m = i_on_j ? pair.j : pair.i;
+            if ((which == 2 && pair.j != last_segment) || !allowed(k, m))
+              continue;
+            const Vec2 p = c.x[k];
+            const auto cp = closest_on_segment(p, c.x[m], c.x[m + 1]);
+            if (cp.distance >= law.diameter)
+              continue;
+            // Only the segment of the other wire nearest to the node counts
+            // (ties go to the lower segment): the node is pressed by the
+            // distance to that wire, a continuous function of the positions.
+            // Counting each segment within reach instead counts a node that
+            // glides past a node of the other wire twice on one side of it,
+            // and the energy jumps by a whole contact at every node passed.
+            if (allowed(k, m - 1) && !(cp.distance < closest_on_segment(p, c.x[m - 1], c.x[m]).distance))
+              continue;
+            if (allowed(k, m + 1) && closest_on_segment(p, c.x[m + 1], c.x[m + 2]).distance < cp.distance)
+              continue;
+            const double overlap = law.diameter - cp.distance;
+            e.max_penetration = std::max(e.max_penetration, overlap);
+            if (cp.distance < 1e-12 * law.diameter)
+              continue; // centrelines cross: no normal; reported through max_penetration
+            const double t = cp.t;
+            const Vec2 n = (1.0 / cp.distance) * (p - cp.q); // from the segment towards the node
+            const double fn = law.normal_stiffness * overlap;
+            Vec2 f = fn * n;
+            e.contact += 0.5 * law.normal_stiffness * overlap * overlap;
+            if (law.friction)
+              {
+                const Vec2 tangent = perp(n);
+                const Vec2 vq = (1.0 - t) * c.v[m] + t * c.v[m + 1];
+                const double vt = dot(c.v[k] - vq, tangent);
+                // A node that slides across a node of the other wire moves on
+                // to the neighbouring segment: it keeps its history.
+                contact::FrictionHistory old;
+                for (const auto kk : {key(k, m), key(k, m - 1), key(k, m + 1)})
+                  if (const auto it = history.find(kk); it != history.end() && !it->second.taken)
+                    {
+                      old = it->second.history;
+                      it->second.taken = true;
+                      break;
+                    }
+                const auto r = contact::friction_update(law.coefficients, fn, vt, dt, old);
+                const Vec2 ft = r.force * tangent;
+                f += ft;
+                friction_work.add_force(k, ft);
+                friction_work.add_force(m, -(1.0 - t) * ft);
+                friction_work.add_force(m + 1, -t * ft);
+                const double stored =
+                    0.5 * law.coefficients.tangential_stiffness * r.history.elongation * r.history.elongation;
+                e.friction_stored += stored;
+                friction_work.add_stored(stored);
+                trial_history[key(k, m)] = {r.history, false};
+              }
+            c.f[k] += f;
+            c.f[m] -= (1.0 - t) * f;
+            c.f[m + 1] -= t * f;
+            c.contact_force[k] += fn;
+            c.contact_force[m] += (1.0 - t) * fn;
+            c.contact_force[m + 1] += t * fn;
+            if (i_on_j)
+              active.push_back({k, m, 0.0, t, fn});
+            else if (which == 1)
+              active.push_back({m, k, t, 0.0, fn});
+            else
+              active.push_back({m, k - 1, t, 1.0, fn}); // the last node ends segment k - 1
           }
-        c.f[i] += (1.0 - cp.s) * fa;
-        c.f[i + 1] += cp.s * fa;
-        c.f[j] -= (1.0 - cp.t) * fa;
-        c.f[j + 1] -= cp.t * fa;
-        c.contact_force[i] += (1.0 - cp.s) * fn;
-        c.contact_force[i + 1] += cp.s * fn;
-        c.contact_force[j] += (1.0 - cp.t) * fn;
-        c.contact_force[j + 1] += cp.t * fn;
-        active.push_back({i, j, cp.s, cp.t, fn});
       }
     e.n_self_contacts += static_cast<int>(active.size());
     // Pairs that separated (or whose history no current pair took) released

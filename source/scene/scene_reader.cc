@@ -210,8 +210,8 @@ namespace wirefem::scene
       d.declare("Contact/Wall contact", "true", boolean, "Keep the wire surface inside the cavity.");
       d.declare("Contact/Self contact", "true", boolean, "Wire-wire contact.");
       d.declare("Contact/Normal stiffness", "2000", any_double,
-                "Penalty k_n (force/d): normal force k_n * overlap. Overlap ~ force/k_n, so "
-                "k_n = 2000 keeps it below 0.025 d up to the default jamming force 50.");
+                "Penalty k_n (force/d per d of wire): a wire on the wall, or two wires side by "
+                "side, are pressed apart by k_n * overlap per unit length.");
       d.declare("Contact/Skin", "0.5", any_double,
                 "Verlet skin (d): candidates are refreshed once a node moved more than skin/2.");
       d.declare("Contact/Exclusion length", "3", any_double,

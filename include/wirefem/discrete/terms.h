@@ -322,15 +322,20 @@ namespace wirefem::discrete
     double stiffness;
   };
 
-  /// Wire-wire contact between segments closer than d, with candidates from
-  /// the broad phase. A pair whose closest point is the far end of one of its
-  /// segments is left to the neighbouring segment (when that pair is outside
-  /// the exclusion window), so no contact is counted twice at a node.
+  /// Wire-wire contact, node to segment both ways: each node against the
+  /// segments of the wire nearby that are closer than d, with candidates from
+  /// the broad phase (segment pairs). Of the segments of one stretch of wire
+  /// only the nearest counts, so the energy is 1/2 (k_n/2) (d - r)^2 with r
+  /// the node's distance to that stretch, continuous as nodes glide past
+  /// each other's nodes; each contact carries half the penalty (and half the
+  /// sticking spring), so two wires side by side feel k_n per unit length.
+  /// Its friction history follows a node from segment to segment.
   class SelfContactTerm : public Term
   {
   public:
-    /// exclusion: segments at most this many apart never touch; capacity:
-    /// number of nodes of the chain (needed with friction).
+    /// exclusion: a node never touches a segment whose nearer node is at
+    /// most this many nodes away along the wire; capacity: number of nodes
+    /// of the chain (needed with friction).
     SelfContactTerm(const ContactLaw &law, double skin, int exclusion, int capacity = 0);
     const char *name() const override { return "self contact"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
@@ -340,7 +345,7 @@ namespace wirefem::discrete
 
     struct ActivePair
     {
-      int i, j;    ///< segments
+      int i, j;    ///< segments (i < j); a node is the start (or the chain's last node the end) of one
       double s, t; ///< closest-point parameters
       double normal_force;
     };
@@ -353,7 +358,7 @@ namespace wirefem::discrete
       return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
              static_cast<std::uint32_t>(j);
     }
-    /// A pair's friction history; `taken` marks that a current pair has
+    /// A contact's friction history (key: node, segment); `taken` marks that a current contact has
     /// inherited it this step, so it is handed on at most once.
     struct StoredHistory
     {
