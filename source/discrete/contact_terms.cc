@@ -138,14 +138,14 @@ namespace wirefem::discrete
 
   namespace
   {
-    /// The point of the segment (a, b) closest to p; at either end the end
-    /// node itself, so that two segments meeting at a node report exactly
-    /// the same distance from it.
+    /// The point of the segment (a, b) closest to p, and its squared
+    /// distance; at either end the end node itself, so that two segments
+    /// meeting at a node report exactly the same distance from it.
     struct PointOnSegment
     {
       double t;
       Vec2 q;
-      double distance;
+      double distance2;
     };
 
     PointOnSegment closest_on_segment(const Vec2 &p, const Vec2 &a, const Vec2 &b)
@@ -160,7 +160,7 @@ namespace wirefem::discrete
         t = 1.0, q = b;
       else
         q = a + t * e;
-      return {t, q, norm(p - q)};
+      return {t, q, geometry::norm_square(p - q)};
     }
   } // namespace
 
@@ -177,6 +177,7 @@ namespace wirefem::discrete
     const auto allowed = [&](const int k, const int m) {
       return m >= first_segment && m <= last_segment && (m > k ? m - k : k - m - 1) > exclusion;
     };
+    const double d2 = law.diameter * law.diameter;
     for (const auto &pair : broad.candidates())
       {
         // Most candidates are apart by more than d; their boxes say so cheaply
@@ -196,7 +197,7 @@ namespace wirefem::discrete
               continue;
             const Vec2 p = c.x[k];
             const auto cp = closest_on_segment(p, c.x[m], c.x[m + 1]);
-            if (cp.distance >= law.diameter)
+            if (cp.distance2 >= d2)
               continue;
             // Only the segment of the other wire nearest to the node counts
             // (ties go to the lower segment): the node is pressed by the
@@ -204,16 +205,17 @@ namespace wirefem::discrete
             // Counting each segment within reach instead counts a node that
             // glides past a node of the other wire twice on one side of it,
             // and the energy jumps by a whole contact at every node passed.
-            if (allowed(k, m - 1) && !(cp.distance < closest_on_segment(p, c.x[m - 1], c.x[m]).distance))
+            if (allowed(k, m - 1) && !(cp.distance2 < closest_on_segment(p, c.x[m - 1], c.x[m]).distance2))
               continue;
-            if (allowed(k, m + 1) && closest_on_segment(p, c.x[m + 1], c.x[m + 2]).distance < cp.distance)
+            if (allowed(k, m + 1) && closest_on_segment(p, c.x[m + 1], c.x[m + 2]).distance2 < cp.distance2)
               continue;
-            const double overlap = law.diameter - cp.distance;
+            const double distance = std::sqrt(cp.distance2);
+            const double overlap = law.diameter - distance;
             e.max_penetration = std::max(e.max_penetration, overlap);
-            if (cp.distance < 1e-12 * law.diameter)
+            if (distance < 1e-12 * law.diameter)
               continue; // centrelines cross: no normal; reported through max_penetration
             const double t = cp.t;
-            const Vec2 n = (1.0 / cp.distance) * (p - cp.q); // from the segment towards the node
+            const Vec2 n = (1.0 / distance) * (p - cp.q); // from the segment towards the node
             const double fn = law.normal_stiffness * overlap;
             Vec2 f = fn * n;
             e.contact += 0.5 * law.normal_stiffness * overlap * overlap;
