@@ -279,7 +279,7 @@ namespace
   // convex corner and moves along it: along the first face, past a node,
   // round the corner and down the second face. Every node must be pressed
   // by its distance to the nearest segment it may touch, once: the energy is
-  // sum_k 1/2 (k_n/2) (d - r_k)^2 over the nodes k closer than d, r_k found
+  // sum_k 1/2 k_n (d - r_k)^2 over the nodes k closer than d, r_k found
   // here by brute force over all segments. Checked with the strand at
   // either end of the chain, so that each node of the strand is the near and
   // the far end of the segments it joins.
@@ -319,7 +319,7 @@ namespace
                 r = std::min(r, norm(c.x[k] - (a + t * e)));
               }
           if (r < 1.0)
-            energy += 0.5 * 1000.0 * (1.0 - r) * (1.0 - r);
+            energy += 0.5 * 2000.0 * (1.0 - r) * (1.0 - r);
         }
       return energy;
     };
@@ -330,7 +330,7 @@ namespace
       StepEnergy e;
       term.add_forces(c, 1e-3, e);
       const double expected = brute_force(c);
-      ASSERT_GE(expected, (1.0 - 1e-9) * 0.5 * 1000.0 * (1.0 - h) * (1.0 - h)); // the tip touches
+      ASSERT_GE(expected, (1.0 - 1e-9) * 0.5 * 2000.0 * (1.0 - h) * (1.0 - h)); // the tip touches
       EXPECT_NEAR(e.contact, expected, 1e-9 * expected) << where << " " << at;
       ++n_checked;
     };
@@ -464,7 +464,7 @@ namespace
         EXPECT_NEAR(with_friction - without, 0.0, 1e-9 * dissipated) << "dissipated " << dissipated;
         // Without friction the ledger closes to the scheme's second-order
         // error (a contact appearing or vanishing at its full overlap would
-        // leave 1/2 (k_n/2) (0.02 d)^2 = 0.1 here).
+        // leave 1/2 k_n (0.02 d)^2 = 0.4 here).
         EXPECT_NEAR(without, 0.0, 1e-5);
       }
   }

@@ -127,11 +127,6 @@ namespace wirefem::discrete
     , broad(law.diameter, skin, exclusion)
   {
     require_capacity(law, capacity, "SelfContactTerm");
-    // Two wires side by side meet node by node both ways, so each contact
-    // carries half the penalty (and half the sticking spring): k_n per unit
-    // length in all, as one wire on the cavity wall.
-    this->law.normal_stiffness *= 0.5;
-    this->law.coefficients.tangential_stiffness *= 0.5;
     if (law.friction)
       friction_work.resize(capacity);
   }

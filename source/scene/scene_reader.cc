@@ -210,8 +210,8 @@ namespace wirefem::scene
       d.declare("Contact/Wall contact", "true", boolean, "Keep the wire surface inside the cavity.");
       d.declare("Contact/Self contact", "true", boolean, "Wire-wire contact.");
       d.declare("Contact/Normal stiffness", "2000", any_double,
-                "Penalty k_n (force/d per d of wire): a wire on the wall, or two wires side by "
-                "side, are pressed apart by k_n * overlap per unit length.");
+                "Penalty k_n (force/d per d of wire): a wire on the wall is pressed back by "
+                "k_n * overlap per unit length (README: Contact, for wire on wire).");
       d.declare("Contact/Skin", "0.5", any_double,
                 "Verlet skin (d): candidates are refreshed once a node moved more than skin/2.");
       d.declare("Contact/Exclusion length", "3", any_double,

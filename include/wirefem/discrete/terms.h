@@ -325,11 +325,12 @@ namespace wirefem::discrete
   /// Wire-wire contact, node to segment both ways: each node against the
   /// segments of the wire nearby that are closer than d, with candidates from
   /// the broad phase (segment pairs). Of the segments of one stretch of wire
-  /// only the nearest counts, so the energy is 1/2 (k_n/2) (d - r)^2 with r
-  /// the node's distance to that stretch, continuous as nodes glide past
-  /// each other's nodes; each contact carries half the penalty (and half the
-  /// sticking spring), so two wires side by side feel k_n per unit length.
-  /// Its friction history follows a node from segment to segment.
+  /// only the nearest counts, so the energy is 1/2 k_n (d - r)^2 with r the
+  /// node's distance to that stretch, continuous as nodes glide past each
+  /// other's nodes. A node pressed on a wire is as stiff as on the wall (k_n
+  /// the law's per-node penalty); two wires side by side meet node by node
+  /// from both sides, twice that per length. Its friction history follows a
+  /// node from segment to segment.
   class SelfContactTerm : public Term
   {
   public:
