@@ -131,34 +131,6 @@ namespace wirefem::discrete
       friction_work.resize(capacity);
   }
 
-  namespace
-  {
-    /// The point of the segment (a, b) closest to p, and its squared
-    /// distance; at either end the end node itself, so that two segments
-    /// meeting at a node report exactly the same distance from it.
-    struct PointOnSegment
-    {
-      double t;
-      Vec2 q;
-      double distance2;
-    };
-
-    PointOnSegment closest_on_segment(const Vec2 &p, const Vec2 &a, const Vec2 &b)
-    {
-      const Vec2 e = b - a;
-      const double ee = dot(e, e);
-      double t = ee > 0.0 ? dot(p - a, e) / ee : 0.0;
-      Vec2 q;
-      if (t <= 0.0)
-        t = 0.0, q = a;
-      else if (t >= 1.0)
-        t = 1.0, q = b;
-      else
-        q = a + t * e;
-      return {t, q, geometry::norm_square(p - q)};
-    }
-  } // namespace
-
   void SelfContactTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
     broad.update(c.x, c.first, c.last);
@@ -185,24 +157,15 @@ namespace wirefem::discrete
         // segment), so every node meets every segment near it exactly once.
         for (int which = 0; which < 3; ++which)
           {
-            const bool i_on_j = which == 0;
             const int k = which == 0 ? pair.i : which == 1 ? pair.j : pair.j + 1;
-            const int m = i_on_j ? pair.j : pair.i;
+            const int m = which == 0 ? pair.j : pair.i;
             if ((which == 2 && pair.j != last_segment) || !allowed(k, m))
               continue;
             const Vec2 p = c.x[k];
-            const auto cp = closest_on_segment(p, c.x[m], c.x[m + 1]);
-            if (cp.distance2 >= d2)
-              continue;
-            // Only the segment of the other wire nearest to the node counts
-            // (ties go to the lower segment): the node is pressed by the
-            // distance to that wire, a continuous function of the positions.
-            // Counting each segment within reach instead counts a node that
-            // glides past a node of the other wire twice on one side of it,
-            // and the energy jumps by a whole contact at every node passed.
-            if (allowed(k, m - 1) && !(cp.distance2 < closest_on_segment(p, c.x[m - 1], c.x[m]).distance2))
-              continue;
-            if (allowed(k, m + 1) && closest_on_segment(p, c.x[m + 1], c.x[m + 2]).distance2 < cp.distance2)
+            const auto cp = contact::closest_on_segment(p, c.x[m], c.x[m + 1]);
+            if (cp.distance2 >= d2 || !contact::nearest_of_stretch(
+                                          p, m, cp.distance2, [&](const int n) { return c.x[n]; },
+                                          [&](const int n) { return allowed(k, n); }))
               continue;
             const double distance = std::sqrt(cp.distance2);
             const double overlap = law.diameter - distance;
@@ -247,7 +210,7 @@ namespace wirefem::discrete
             c.contact_force[k] += fn;
             c.contact_force[m] += (1.0 - t) * fn;
             c.contact_force[m + 1] += t * fn;
-            if (i_on_j)
+            if (which == 0)
               active.push_back({k, m, 0.0, t, fn});
             else if (which == 1)
               active.push_back({m, k, t, 0.0, fn});

@@ -669,19 +669,9 @@ namespace wirefem::fem
         // of nearly parallel segments, which stalls Newton). Each direction
         // carries half the penalty, so two parallel wires feel k_n per unit
         // length. Of the segments of one stretch of wire only the one
-        // nearest to the node counts (ties to the lower one), so the energy
-        // is that of the node's distance to the stretch, continuous as nodes
-        // glide past each other's nodes (counting every segment within reach
-        // counts such a node twice on one side of the other's node).
+        // nearest to the node presses it (contact::nearest_of_stretch).
         const int first_segment = first - 1, last_segment = last + 1 - 2; // nodes [first - 1, last + 1)
-        const auto allowed = [&](const int node, const int seg) {
-          return seg >= first_segment && seg <= last_segment && std::abs(seg - node) > exclusion;
-        };
-        const auto distance2 = [&](const Vec2 &p, const int seg) {
-          const Vec2 a = position(u1, seg), b = position(u1, seg + 1), d = b - a;
-          const double tt = dot(p - a, d) / dot(d, d);
-          return geometry::norm_square(p - (tt <= 0.0 ? a : tt >= 1.0 ? b : a + tt * d));
-        };
+        const auto at = [&](const int k) { return position(u1, k); };
         const double fs = c_force > 0 ? 1.0 / c_force : 1.0;
         for (const auto &pr : broad.candidates())
           for (const bool a_on_b : {true, false})
@@ -692,13 +682,13 @@ namespace wirefem::fem
               double tc;
               const bool touch =
                   point_segment_contact(self_settings, 0.5 * node_weight(node), x, w0, c_vel, cc, tc, fs);
-              if (touch)
-                {
-                  const double here = distance2(x[0], seg);
-                  if ((allowed(node, seg - 1) && distance2(x[0], seg - 1) <= here) ||
-                      (allowed(node, seg + 1) && distance2(x[0], seg + 1) < here))
-                    continue;
-                }
+              if (touch && !contact::nearest_of_stretch(
+                               x[0], seg, contact::closest_on_segment(x[0], x[1], x[2]).distance2, at,
+                               [&](const int s) {
+                                 return s >= first_segment && s <= last_segment &&
+                                        std::abs(s - node) > exclusion;
+                               }))
+                continue;
               e.max_overlap = std::max(e.max_overlap, cc.overlap);
               if (!touch)
                 continue;
