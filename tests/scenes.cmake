@@ -73,7 +73,8 @@ set_tests_properties(scene.cantilever_fem_runs PROPERTIES LABELS regression
 # Validation studies (ctest -L validation; validation/README.md). Debian's
 # python3 (numpy, scipy, matplotlib), whatever python3 comes first on PATH.
 find_program(WIREFEM_PYTHON python3 PATHS /usr/bin NO_DEFAULT_PATH)
-foreach(study "cantilever;1800" "buckling;3600" "plastic_cycles;3600" "capstan;3600" "continuum;3600")
+foreach(study "cantilever;1800" "buckling;3600" "plastic_cycles;3600" "capstan;3600" "continuum;3600"
+        "spiral_force;7200")
   list(GET study 0 name)
   list(GET study 1 timeout)
   add_test(NAME validation.${name}

@@ -1,0 +1,214 @@
+#!/usr/bin/python3
+"""Validation case 6: the injection force of the spiral scene against the
+tight-spiral estimate (prm/spiral.prm: elastic, frictionless, EI = 60).
+
+The estimate (derived in analyze.py): a tight spiral against the wall,
+turns d apart from R down to rho = R sqrt(1 - phi), stores
+E_ts = (pi EI / 2d) ln(1 / (1 - phi)), so a quasi-static injection pushes
+with F_ts = dE_ts/dL = EI / (2 R^2 (1 - phi)).
+
+What the estimate leaves out: the S that joins the two arms in the middle
+(2 pi EI / rho), the bends where the wire leaves the channels, the band's
+departure from centred circles. If these were all features of the size of
+the cavity storing O(EI / R), against O(EI / d) in the spiral, their share
+of the force would be O(d / R) = O(1 / f) and the estimate the large-f
+limit. The study tests that:
+
+- q(f), the stored-energy rate against the estimate: the least-squares
+  slope of the stored energy (bending + stretching + contact) against
+  E_ts(phi) over phi in [0.2, 0.5], i.e. the mean of (dE/dL) / F_ts, for
+  f = 12, 16, 20, 25, 35, 50 at injection speed 0.1 (the study takes
+  about 80 min on one free core, f = 50 half of it).
+- q(f) = a + b / f fitted (numpy least squares, covariance from the
+  residuals). The case's tolerance: |a - 1| <= 0.1.
+- The force: at f = 12, 16, 20 the scene also runs at speed 0.01. The
+  force rate (the same slope of the injection work) exceeds q by the
+  dissipation, linear in the speed (the band slides round the cavity
+  through its dashpots) plus the rate-independent snap-throughs of the S
+  and the inlet bends. Extrapolated linearly to speed 0, the quasi-static
+  force is asserted to exceed q by 0 to 0.15 q (-0.02 q allowed for the
+  extrapolation's noise): the force is the stored-energy rate.
+- Speed: q at 0.1 within 0.1 of q at 0.01 (f = 12, 16, 20), so the ladder
+  can use the faster runs.
+
+    validation/spiral_force/run.py WIREFEM OUTDIR [--reuse]
+
+--reuse takes runs whose output directory already holds a summary.json
+instead of running them again (to redo the analysis and figure only).
+"""
+import csv
+import glob
+import json
+import math
+import os
+import re
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+import study  # noqa: E402
+
+PRM = os.path.join(os.path.dirname(os.path.dirname(HERE)), "prm", "spiral.prm")
+EI = 60.0  # prm/spiral.prm
+PHI_RANGE = (0.2, 0.5)
+# (f, speed): the ladder of the limit, and the slow runs of the force.
+LADDER = [(12, 0.1), (16, 0.1), (20, 0.1), (25, 0.1), (35, 0.1), (50, 0.1)]
+SLOW = [(12, 0.01), (16, 0.01), (20, 0.01)]
+SPEED_CHECKS = [((f, 0.01), (f, 0.1)) for f, _ in SLOW]
+QUASI_STATIC_NOISE = 0.02
+TOL_LIMIT = 0.1
+TOL_QUASI_STATIC = 0.15
+TOL_SPEED = 0.1
+
+
+def tight_spiral_energy(phi):
+    return math.pi * EI / 2.0 * math.log(1.0 / (1.0 - phi))
+
+
+def rates(out, phi_range=PHI_RANGE):
+    """Slopes of stored energy and injection work against E_ts(phi) over
+    phi_range, and the rows used."""
+    with open(os.path.join(out, "series.csv")) as f:
+        rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+    rows = [r for r in rows if phi_range[0] <= r["phi"] <= phi_range[1]]
+    x = np.array([tight_spiral_energy(r["phi"]) for r in rows])
+    stored = np.array([r["energy_bending"] + r["energy_stretching"] + r["energy_contact"] for r in rows])
+    work = np.array([r["injection_work"] for r in rows])
+    return float(np.polyfit(x, stored, 1)[0]), float(np.polyfit(x, work, 1)[0]), rows
+
+
+def vtu_arrays(filename):
+    """Point data and points of a wire_*.vtu written by wirefem (ASCII)."""
+    with open(filename) as f:
+        text = f.read()
+    out = {m.group(1): np.array(m.group(2).split(), dtype=float)
+           for m in re.finditer(r'<DataArray[^>]*Name="([a-z_]+)"[^>]*>(.*?)</DataArray>', text, re.S)}
+    points = re.search(r"<Points>\s*<DataArray[^>]*>(.*?)</DataArray>", text, re.S).group(1)
+    out["points"] = np.array(points.split(), dtype=float).reshape(-1, 3)
+    return out
+
+
+def band_energies(out, radius, phi):
+    """Where the final state's bending energy sits, over E_ts(phi): in the
+    band (nodes in the cavity farther than 0.75 rho from its centre), what
+    the band's nodes would store on circles about the centre (EI / 2r^2 per
+    node), and the rest in the cavity (the S)."""
+    a = vtu_arrays(sorted(glob.glob(os.path.join(out, "wire_*.vtu")))[-1])
+    r = np.hypot(a["points"][:, 0], a["points"][:, 1])
+    rho = radius * math.sqrt(1.0 - phi)
+    inside = r <= radius - 0.5
+    band = inside & (r > 0.75 * rho)
+    e_ts = tight_spiral_energy(phi)
+    return {"band": float(a["bending_energy"][band].sum() / e_ts),
+            "band_as_centred_circles": float((EI / (2.0 * r[band] ** 2)).sum() / e_ts),
+            "rest": float(a["bending_energy"][inside & ~band].sum() / e_ts)}
+
+
+def main():
+    wirefem, outdir = sys.argv[1], sys.argv[2]
+    reuse = "--reuse" in sys.argv[3:]
+    os.makedirs(outdir, exist_ok=True)
+    failures, runs = [], {}
+    for f, speed in sorted(set(LADDER + SLOW + [c for pair in SPEED_CHECKS for c in pair])):
+        out = os.path.join(outdir, f"f{f}_v{speed:g}")
+        s = study.run(wirefem, PRM, [f"Cavity/Radius={f}", f"Injection/Speed={speed!r}",
+                                     f"Injection/Maximum packing density={PHI_RANGE[1]!r}"], out, reuse)
+        q, qw, rows = rates(out)
+        runs[(f, speed)] = {"f": f, "speed": speed, "stored_rate": q, "work_rate": qw,
+                            "phi_final": s["phi_final"], "energy_balance_error": s["energy"]["balance_error"],
+                            "max_penetration": s["max_penetration"], "loops": s["loops"],
+                            "wall_time_s": s["wall_time_s"], "rows": len(rows), "dir": out,
+                            "final_energy": band_energies(out, f, s["phi_final"]),
+                            # The phi dependence: q over the two halves of the range.
+                            "stored_rate_halves": [rates(out, (PHI_RANGE[0], 0.35))[0],
+                                                   rates(out, (0.35, PHI_RANGE[1]))[0]]}
+        print(f"f = {f:>3}, speed {speed:<5g}: stored rate / F_ts {q:.3f}, force rate / F_ts {qw:.3f} "
+              f"({len(rows)} rows, {s['wall_time_s']:.0f} s, balance {s['energy']['balance_error']:.1e})")
+        if s["phi_final"] < PHI_RANGE[1] - 1e-3 or s.get("failed", False):
+            failures.append(f"f = {f}, speed {speed}: stopped at phi {s['phi_final']:.3f} ({s['stop_reason']})")
+
+    # The limit f -> infinity.
+    x = np.array([1.0 / f for f, _ in LADDER])
+    y = np.array([runs[c]["stored_rate"] for c in LADDER])
+    (b, a), cov = np.polyfit(x, y, 1, cov=True)
+    sigma_a = float(math.sqrt(cov[1][1]))
+    print(f"stored rate / F_ts = {a:.3f} +- {sigma_a:.3f} + {b:.2f} / f")
+    if abs(a - 1.0) > TOL_LIMIT:
+        failures.append(f"limit f -> infinity of the stored-energy rate / F_ts: {a:.3f} +- {sigma_a:.3f}, "
+                        f"not within {TOL_LIMIT:g} of 1")
+
+    quasi_static = []
+    for slow, fast in SPEED_CHECKS:
+        # Dissipation rate e(v) = e0 + e1 v through the two speeds.
+        (v0, r0), (v1, r1) = [(c[1], runs[c]) for c in (slow, fast)]
+        e0, e1 = r0["work_rate"] - r0["stored_rate"], r1["work_rate"] - r1["stored_rate"]
+        e_static = (e0 * v1 - e1 * v0) / (v1 - v0)
+        share = e_static / r0["stored_rate"]
+        quasi_static.append({"f": slow[0], "force_rate": r0["stored_rate"] + e_static, "dissipated_share": share})
+        print(f"f = {slow[0]}: quasi-static force / F_ts {r0['stored_rate'] + e_static:.3f}, "
+              f"{share:+.3f} above the stored-energy rate")
+        if not -QUASI_STATIC_NOISE <= share <= TOL_QUASI_STATIC:
+            failures.append(f"f = {slow[0]}: quasi-static force rate / stored rate - 1 = {share:.3f}, "
+                            f"not in [-{QUASI_STATIC_NOISE:g}, {TOL_QUASI_STATIC:g}]")
+    speed_checks = []
+    for slow, fast in SPEED_CHECKS:
+        d = runs[fast]["stored_rate"] / runs[slow]["stored_rate"] - 1.0
+        speed_checks.append({"f": slow[0], "speeds": [slow[1], fast[1]], "relative_difference": d})
+        if abs(d) > TOL_SPEED:
+            failures.append(f"f = {slow[0]}: stored rate at speed {fast[1]} differs from {slow[1]} by {d:+.3f}")
+
+    results = {"validation": "spiral_force", "asserted": True, "phi_range": list(PHI_RANGE),
+               "limit": a, "limit_sigma": sigma_a, "slope": float(b), "tolerance_limit": TOL_LIMIT,
+               "tolerance_quasi_static": TOL_QUASI_STATIC, "tolerance_speed": TOL_SPEED,
+               "ladder": [runs[c] for c in LADDER], "slow": [runs[c] for c in SLOW],
+               "speed_checks": speed_checks, "quasi_static": quasi_static, "runs": list(runs.values()), "failures": failures}
+    with open(os.path.join(outdir, "results.json"), "w") as f:
+        json.dump(results, f, indent=2)
+    plot(results, runs, os.path.join(outdir, "spiral_force.png"))
+    for m in failures:
+        print("FAIL:", m)
+    return 1 if failures else 0
+
+
+def plot(results, runs, filename):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
+    for i, c in enumerate(LADDER + SLOW):
+        r = runs[c]
+        with open(os.path.join(r["dir"], "series.csv")) as f:
+            rows = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+        phi = [row["phi"] for row in rows]
+        ratio = [(row["energy_bending"] + row["energy_stretching"] + row["energy_contact"]) /
+                 tight_spiral_energy(row["phi"]) if row["phi"] > 0.05 else float("nan") for row in rows]
+        left.plot(phi, ratio, "-" if c in LADDER else ":", color=f"C{i}",
+                  label=f"f = {c[0]}, speed {c[1]:g}")
+    left.axhline(1.0, color="k", lw=1)
+    left.axvspan(*PHI_RANGE, color="0.92", zorder=0)
+    left.set_ylim(0, 4)
+    left.set_xlabel("phi")
+    left.set_ylabel("stored energy / E_ts")
+    left.set_title("stored energy against the tight spiral")
+    left.legend(fontsize=7)
+    x = [1.0 / c[0] for c in LADDER]
+    right.plot(x, [runs[c]["stored_rate"] for c in LADDER], "o", label="stored-energy rate / F_ts")
+    right.plot([1.0 / q["f"] for q in results["quasi_static"]], [q["force_rate"] for q in results["quasi_static"]],
+               "s", label="quasi-static force / F_ts (speed -> 0)")
+    xs = np.linspace(0.0, max(x) * 1.05, 50)
+    right.plot(xs, results["limit"] + results["slope"] * xs, "-", color="C0",
+               label=f"fit {results['limit']:.3f} + {results['slope']:.2f} / f")
+    right.errorbar([0.0], [results["limit"]], yerr=[results["limit_sigma"]], fmt="D", color="C0")
+    right.axhspan(1 - TOL_LIMIT, 1 + TOL_LIMIT, color="0.9", zorder=0, label="estimate +- tolerance")
+    right.set_xlabel("1 / f")
+    right.set_ylabel(f"mean over phi in [{PHI_RANGE[0]:g}, {PHI_RANGE[1]:g}] of rate / F_ts")
+    right.set_title("the tight spiral as the large-f limit")
+    right.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(filename, dpi=100)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
