@@ -41,7 +41,7 @@ def main():
     os.makedirs(outdir, exist_ok=True)
     groups = {}
     for name in sorted(os.listdir(runs_dir)):
-        m = re.fullmatch(r"v([0-9.]+)_f([0-9.]+)_s(\d+)", name)
+        m = re.fullmatch(r"(?:r\d+_)?v([0-9.]+)_f([0-9.]+)_s(\d+)", name)
         path = os.path.join(runs_dir, name)
         if not m or not os.path.exists(os.path.join(path, "summary.json")):
             continue
@@ -49,22 +49,22 @@ def main():
             s = json.load(f)
         with open(os.path.join(path, "series.csv")) as f:
             rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
-        key = (float(m.group(1)), float(m.group(2)))
+        key = (s["cavity_radius"], float(m.group(1)), float(m.group(2)))
         groups.setdefault(key, []).append({
             "seed": int(m.group(3)), "phi_final": s["phi_final"], "jammed": s["jammed"],
             "loops": {f"{p:g}": loops_at(rows, p) for p in PHIS}, "wall_time_s": s["wall_time_s"],
             "steps": s["steps"], "balance_error": s["energy"]["balance_error"],
             "curvature_ratio": s.get("curvature_ratio"), "symmetry": s.get("symmetry")})
     table = []
-    print("speed  dt factor  runs  phi_jam (mean +- sd)   " +
+    print("   f  speed  dt factor  runs  phi_jam (mean +- sd)   " +
           "  ".join(f"loops@{p:g}" for p in PHIS) + "   wall time (median)")
-    for (speed, factor), runs in sorted(groups.items(), key=lambda kv: (-kv[0][0], -kv[0][1])):
+    for (radius, speed, factor), runs in sorted(groups.items(), key=lambda kv: (kv[0][0], -kv[0][1], -kv[0][2])):
         phi = mean_std([r["phi_final"] for r in runs])
         loops = {p: mean_std([r["loops"][f"{p:g}"] for r in runs]) for p in PHIS}
         median = statistics.median(r["wall_time_s"] for r in runs)
-        table.append({"speed": speed, "time_step_factor": factor, "runs": runs, "phi_jam": phi,
+        table.append({"radius": radius, "speed": speed, "time_step_factor": factor, "runs": runs, "phi_jam": phi,
                       "loops": {f"{p:g}": loops[p] for p in PHIS}, "median_wall_time_s": median})
-        print(f"{speed:5g}  {factor:9g}  {len(runs):4d}  {phi[0]:.4f} +- {phi[1]:.4f}        " +
+        print(f"{radius:4g}  {speed:5g}  {factor:9g}  {len(runs):4d}  {phi[0]:.4f} +- {phi[1]:.4f}        " +
               "  ".join(f"{loops[p][0]:5.1f}+-{loops[p][1]:4.1f}" for p in PHIS) + f"   {median:.0f} s")
     with open(os.path.join(outdir, "results.json"), "w") as f:
         json.dump({"study": "injection_statistics", "asserted": False, "groups": table}, f, indent=2)
@@ -75,23 +75,36 @@ def plot(table, filename):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5))
+    fig, (a, b, c) = plt.subplots(1, 3, figsize=(15, 4.5))
     for i, g in enumerate(table):
-        label = f"speed {g['speed']:g}, dt factor {g['time_step_factor']:g}"
+        label = f"f = {g['radius']:g}, speed {g['speed']:g}, dt factor {g['time_step_factor']:g}"
         t = [r["wall_time_s"] for r in g["runs"]]
         a.plot(t, [r["phi_final"] for r in g["runs"]], "o", color=f"C{i}", label=label)
         sd = g["phi_jam"][1] if not math.isnan(g["phi_jam"][1]) else 0.0
         a.errorbar([g["median_wall_time_s"]], [g["phi_jam"][0]], yerr=[sd], fmt="s", color=f"C{i}",
                    capsize=4, ms=8, mfc="none")
         b.plot(t, [r["loops"]["0.3"] for r in g["runs"]], "o", color=f"C{i}", label=label)
-    a.set_xlabel("wall time (s)")
+    for radius in sorted({g["radius"] for g in table}):
+        gs = sorted((g for g in table if g["radius"] == radius and g["time_step_factor"] == 0.25),
+                    key=lambda g: g["speed"])
+        c.errorbar([g["speed"] for g in gs], [g["phi_jam"][0] for g in gs],
+                   yerr=[0.0 if math.isnan(g["phi_jam"][1]) else g["phi_jam"][1] for g in gs],
+                   fmt="o-", capsize=4, label=f"f = {radius:g}")
+    for ax in (a, b):
+        ax.set_xscale("log")
+        ax.set_xlabel("wall time (s)")
     a.set_ylabel("phi at jamming")
-    a.set_title("classic, f = 25: phi at jamming (dots: seeds; squares: mean +- sd)")
+    a.set_title("classic scene: phi at jamming (dots: seeds; squares: mean +- sd)")
     a.title.set_fontsize(9)
-    a.legend(fontsize=7)
-    b.set_xlabel("wall time (s)")
+    a.legend(fontsize=6)
     b.set_ylabel("loops at phi = 0.3")
     b.set_title("loops at phi = 0.3")
+    c.set_xscale("log")
+    c.set_xlabel("injection speed (each channel)")
+    c.set_ylabel("phi at jamming (mean +- sd over seeds)")
+    c.set_title("toward the quasi-static limit (dt factor 0.25)")
+    c.title.set_fontsize(9)
+    c.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(filename, dpi=100)
 
