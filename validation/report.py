@@ -159,12 +159,15 @@ def spiral_section(res, figures):
            f"{hi:g}; as centred circles: EI/(2 r^2) per node. Why the limit misses: validation/README.md "
            "(validation/spiral_force/run.py).", "",
            "| f | speed | stored-energy rate / F_ts (phi 0.2-0.35, 0.35-0.5) | force / F_ts | band / E_ts "
-           "(as centred circles) | S / E_ts | wall time | energy balance |",
-           "|---|---|---|---|---|---|---|---|"]
+           "(as centred circles) | S / E_ts | band's inner edge / rho, towards the inlets; across | wall time | "
+           "energy balance |",
+           "|---|---|---|---|---|---|---|---|---|"]
     for r in sorted(res["runs"], key=lambda r: (r["f"], r["speed"])):
         e, h = r["final_energy"], r["stored_rate_halves"]
         out.append(f"| {r['f']} | {r['speed']:g} | {r['stored_rate']:.3f} ({h[0]:.2f}, {h[1]:.2f}) | "
                    f"{r['work_rate']:.3f} | {e['band']:.2f} ({e['band_as_centred_circles']:.2f}) | {e['rest']:.3f} | "
+                   f"{', '.join(f'{x:.2f}' for x in e['inner_edge_inlets'])}; "
+                   f"{', '.join(f'{x:.2f}' for x in e['inner_edge_across'])} | "
                    f"{r['wall_time_s']:.0f} s | {r['energy_balance_error']:.1e} |")
     out += ["", f"Limit f -> infinity of the stored-energy rate / F_ts: **{res['limit']:.3f} +- "
             f"{res['limit_sigma']:.3f}** (fit {res['limit']:.3f} + {res['slope']:.2f} / f over the ladder).",

@@ -94,16 +94,27 @@ def band_energies(out, radius, phi):
     """Where the final state's bending energy sits, over E_ts(phi): in the
     band (nodes in the cavity farther than 0.75 rho from its centre), what
     the band's nodes would store on circles about the centre (EI / 2r^2 per
-    node), and the rest in the cavity (the S)."""
+    node), and the rest in the cavity (the S); and the band's inner edge."""
     a = vtu_arrays(sorted(glob.glob(os.path.join(out, "wire_*.vtu")))[-1])
     r = np.hypot(a["points"][:, 0], a["points"][:, 1])
     rho = radius * math.sqrt(1.0 - phi)
     inside = r <= radius - 0.5
     band = inside & (r > 0.75 * rho)
     e_ts = tight_spiral_energy(phi)
+    theta = np.arctan2(a["points"][:, 1], a["points"][:, 0])
+
+    def inner_edge(direction):
+        """The band's innermost node within 10 degrees of a direction, / rho."""
+        near = band & (np.abs(np.angle(np.exp(1j * (theta - direction)))) < math.radians(10.0))
+        return float(r[near].min() / rho) if near.any() else float("nan")
+
     return {"band": float(a["bending_energy"][band].sum() / e_ts),
             "band_as_centred_circles": float((EI / (2.0 * r[band] ** 2)).sum() / e_ts),
-            "rest": float(a["bending_energy"][inside & ~band].sum() / e_ts)}
+            "rest": float(a["bending_energy"][inside & ~band].sum() / e_ts),
+            # The band's shape: its inner edge towards the inlets (on the x
+            # axis) and perpendicular to them.
+            "inner_edge_inlets": [inner_edge(0.0), inner_edge(math.pi)],
+            "inner_edge_across": [inner_edge(0.5 * math.pi), inner_edge(-0.5 * math.pi)]}
 
 
 def main():
