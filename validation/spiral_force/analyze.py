@@ -38,9 +38,22 @@ WINDOW = 0.05
 EI = 60.0  # the bending stiffness of prm/spiral.prm
 
 
-def read(run):
+def read_series(run):
+    """The rows of a run's series.csv, as numbers."""
     with open(os.path.join(run, "series.csv")) as f:
-        rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+        return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+
+
+def stored_energy(row):
+    return row["energy_bending"] + row["energy_stretching"] + row["energy_contact"]
+
+
+def tight_spiral_energy(phi):
+    return math.pi * EI / 2.0 * math.log(1.0 / (1.0 - phi))
+
+
+def read(run):
+    rows = read_series(run)
     with open(os.path.join(run, "summary.json")) as f:
         summary = json.load(f)
     return rows, summary
@@ -56,17 +69,16 @@ def windows(rows, radius, EI):
             break
         first, last = inside[0], inside[-1]
         dl = last["injected_length"] - first["injected_length"]
-        stored = lambda r: r["energy_bending"] + r["energy_stretching"] + r["energy_contact"]  # noqa: E731
         dissipated = lambda r: r["damping_dissipation"] + r["friction_dissipation"] + r["plastic_dissipation"]  # noqa: E731
         phi = 0.5 * (first["phi"] + last["phi"])
         out.append({"phi": phi,
                     "force": sum(r["force"] for r in inside) / len(inside),
-                    "stored_slope": (stored(last) - stored(first)) / dl,
+                    "stored_slope": (stored_energy(last) - stored_energy(first)) / dl,
                     "dissipated_slope": (dissipated(last) - dissipated(first)) / dl,
                     "kinetic_slope": (last["energy_kinetic"] - first["energy_kinetic"]) / dl,
                     "tight_spiral_force": EI / (2.0 * radius ** 2 * (1.0 - phi)),
                     "bending_energy": last["energy_bending"],
-                    "tight_spiral_energy": math.pi * EI / 2.0 * math.log(1.0 / (1.0 - last["phi"]))})
+                    "tight_spiral_energy": tight_spiral_energy(last["phi"])})
         a += WINDOW
     return out
 

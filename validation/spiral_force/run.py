@@ -36,7 +36,6 @@ limit. The study tests that:
 --reuse takes runs whose output directory already holds a summary.json
 instead of running them again (to redo the analysis and figure only).
 """
-import csv
 import glob
 import json
 import math
@@ -49,9 +48,9 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 import study  # noqa: E402
+from analyze import EI, read_series, stored_energy, tight_spiral_energy  # noqa: E402
 
 PRM = os.path.join(os.path.dirname(os.path.dirname(HERE)), "prm", "spiral.prm")
-EI = 60.0  # prm/spiral.prm
 PHI_RANGE = (0.2, 0.5)
 # (f, speed): the ladder of the limit, and the slow runs of the force.
 LADDER = [(12, 0.1), (16, 0.1), (20, 0.1), (25, 0.1), (35, 0.1), (50, 0.1)]
@@ -63,20 +62,14 @@ TOL_QUASI_STATIC = 0.15
 TOL_SPEED = 0.1
 
 
-def tight_spiral_energy(phi):
-    return math.pi * EI / 2.0 * math.log(1.0 / (1.0 - phi))
-
-
-def rates(out, phi_range=PHI_RANGE):
+def rates(series, phi_range=PHI_RANGE):
     """Slopes of stored energy and injection work against E_ts(phi) over
-    phi_range, and the rows used."""
-    with open(os.path.join(out, "series.csv")) as f:
-        rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
-    rows = [r for r in rows if phi_range[0] <= r["phi"] <= phi_range[1]]
+    phi_range, and the number of rows used."""
+    rows = [r for r in series if phi_range[0] <= r["phi"] <= phi_range[1]]
     x = np.array([tight_spiral_energy(r["phi"]) for r in rows])
-    stored = np.array([r["energy_bending"] + r["energy_stretching"] + r["energy_contact"] for r in rows])
+    stored = np.array([stored_energy(r) for r in rows])
     work = np.array([r["injection_work"] for r in rows])
-    return float(np.polyfit(x, stored, 1)[0]), float(np.polyfit(x, work, 1)[0]), rows
+    return float(np.polyfit(x, stored, 1)[0]), float(np.polyfit(x, work, 1)[0]), len(rows)
 
 
 def vtu_arrays(filename):
@@ -121,22 +114,26 @@ def main():
     wirefem, outdir = sys.argv[1], sys.argv[2]
     reuse = "--reuse" in sys.argv[3:]
     os.makedirs(outdir, exist_ok=True)
-    failures, runs = [], {}
+    failures, runs, curves = [], {}, {}
     for f, speed in sorted(set(LADDER + SLOW + [c for pair in SPEED_CHECKS for c in pair])):
         out = os.path.join(outdir, f"f{f}_v{speed:g}")
         s = study.run(wirefem, PRM, [f"Cavity/Radius={f}", f"Injection/Speed={speed!r}",
                                      f"Injection/Maximum packing density={PHI_RANGE[1]!r}"], out, reuse)
-        q, qw, rows = rates(out)
+        series = read_series(out)
+        q, qw, n_rows = rates(series)
         runs[(f, speed)] = {"f": f, "speed": speed, "stored_rate": q, "work_rate": qw,
                             "phi_final": s["phi_final"], "energy_balance_error": s["energy"]["balance_error"],
                             "max_penetration": s["max_penetration"], "loops": s["loops"],
-                            "wall_time_s": s["wall_time_s"], "rows": len(rows), "dir": out,
+                            "wall_time_s": s["wall_time_s"], "rows": n_rows,
                             "final_energy": band_energies(out, f, s["phi_final"]),
                             # The phi dependence: q over the two halves of the range.
-                            "stored_rate_halves": [rates(out, (PHI_RANGE[0], 0.35))[0],
-                                                   rates(out, (0.35, PHI_RANGE[1]))[0]]}
+                            "stored_rate_halves": [rates(series, (PHI_RANGE[0], 0.35))[0],
+                                                   rates(series, (0.35, PHI_RANGE[1]))[0]]}
+        curves[(f, speed)] = ([r["phi"] for r in series],
+                              [stored_energy(r) / tight_spiral_energy(r["phi"]) if r["phi"] > 0.05 else float("nan")
+                               for r in series])
         print(f"f = {f:>3}, speed {speed:<5g}: stored rate / F_ts {q:.3f}, force rate / F_ts {qw:.3f} "
-              f"({len(rows)} rows, {s['wall_time_s']:.0f} s, balance {s['energy']['balance_error']:.1e})")
+              f"({n_rows} rows, {s['wall_time_s']:.0f} s, balance {s['energy']['balance_error']:.1e})")
         if s["phi_final"] < PHI_RANGE[1] - 1e-3 or s.get("failed", False):
             failures.append(f"f = {f}, speed {speed}: stopped at phi {s['phi_final']:.3f} ({s['stop_reason']})")
 
@@ -150,7 +147,7 @@ def main():
         failures.append(f"limit f -> infinity of the stored-energy rate / F_ts: {a:.3f} +- {sigma_a:.3f}, "
                         f"not within {TOL_LIMIT:g} of 1")
 
-    quasi_static = []
+    quasi_static, speed_checks = [], []
     for slow, fast in SPEED_CHECKS:
         # Dissipation rate e(v) = e0 + e1 v through the two speeds.
         (v0, r0), (v1, r1) = [(c[1], runs[c]) for c in (slow, fast)]
@@ -163,9 +160,8 @@ def main():
         if not -QUASI_STATIC_NOISE <= share <= TOL_QUASI_STATIC:
             failures.append(f"f = {slow[0]}: quasi-static force rate / stored rate - 1 = {share:.3f}, "
                             f"not in [-{QUASI_STATIC_NOISE:g}, {TOL_QUASI_STATIC:g}]")
-    speed_checks = []
-    for slow, fast in SPEED_CHECKS:
-        d = runs[fast]["stored_rate"] / runs[slow]["stored_rate"] - 1.0
+        # The stored-energy rate's speed dependence.
+        d = r1["stored_rate"] / r0["stored_rate"] - 1.0
         speed_checks.append({"f": slow[0], "speeds": [slow[1], fast[1]], "relative_difference": d})
         if abs(d) > TOL_SPEED:
             failures.append(f"f = {slow[0]}: stored rate at speed {fast[1]} differs from {slow[1]} by {d:+.3f}")
@@ -173,29 +169,23 @@ def main():
     results = {"validation": "spiral_force", "asserted": True, "phi_range": list(PHI_RANGE),
                "limit": a, "limit_sigma": sigma_a, "slope": float(b), "tolerance_limit": TOL_LIMIT,
                "tolerance_quasi_static": TOL_QUASI_STATIC, "tolerance_speed": TOL_SPEED,
-               "ladder": [runs[c] for c in LADDER], "slow": [runs[c] for c in SLOW],
                "speed_checks": speed_checks, "quasi_static": quasi_static, "runs": list(runs.values()), "failures": failures}
     with open(os.path.join(outdir, "results.json"), "w") as f:
         json.dump(results, f, indent=2)
-    plot(results, runs, os.path.join(outdir, "spiral_force.png"))
+    plot(results, runs, curves, os.path.join(outdir, "spiral_force.png"))
     for m in failures:
         print("FAIL:", m)
     return 1 if failures else 0
 
 
-def plot(results, runs, filename):
+def plot(results, runs, curves, filename):
+    """curves: (phi, stored energy / E_ts) of each run."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
     for i, c in enumerate(LADDER + SLOW):
-        r = runs[c]
-        with open(os.path.join(r["dir"], "series.csv")) as f:
-            rows = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
-        phi = [row["phi"] for row in rows]
-        ratio = [(row["energy_bending"] + row["energy_stretching"] + row["energy_contact"]) /
-                 tight_spiral_energy(row["phi"]) if row["phi"] > 0.05 else float("nan") for row in rows]
-        left.plot(phi, ratio, "-" if c in LADDER else ":", color=f"C{i}",
+        left.plot(*curves[c], "-" if c in LADDER else ":", color=f"C{i}",
                   label=f"f = {c[0]}, speed {c[1]:g}")
     left.axhline(1.0, color="k", lw=1)
     left.axvspan(*PHI_RANGE, color="0.92", zorder=0)
