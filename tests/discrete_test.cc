@@ -226,6 +226,31 @@ namespace
     expect_forces_match_energy(term, c, 1e-6);
   }
 
+  TEST(ForceTerms, WallContactWithTangentialChannelsIsTheGradientOfItsEnergy)
+  {
+    discrete::ContactLaw law;
+    law.normal_stiffness = 2000.0;
+    discrete::WallContactTerm term(5.0, law);
+    term.make_channels_tangential();
+    Chain c(8);
+    c.first = 0;
+    c.last = 7;
+    c.x[0] = {-4.7, 1.2};  // in the left channel (the end, y > 0): the channel's
+    c.x[1] = {-4.6, 0.1};  // the same
+    c.x[2] = {-4.6, -0.4}; // past the inlet, pressed into the wall
+    c.x[3] = {4.85, 0.3};  // where a radial channel would open: the wall is whole
+    c.x[4] = {1.0, 1.0};   // free
+    c.x[5] = {4.65, 0.2};  // pressed into the wall just before the right channel
+    c.x[6] = {4.7, -0.9};  // in the right channel (the end, y < 0)
+    expect_forces_match_energy(term, c, 1e-6);
+    StepEnergy e;
+    term.add_forces(c, 1e-3, e);
+    EXPECT_EQ(e.n_wall_contacts, 3);
+    for (const int k : {0, 1, 4, 6})
+      EXPECT_EQ(c.f[k].x, 0.0) << "node " << k;
+    EXPECT_NEAR(c.f[3].x, -2000.0 * (std::hypot(4.85, 0.3) + 0.5 - 5.0) * 4.85 / std::hypot(4.85, 0.3), 1e-9);
+  }
+
   TEST(ForceTerms, ChannelWallsAreTheGradientOfTheirEnergy)
   {
     // Mouths at (-5, 0) and (5, 0), axes +x and -x.
@@ -670,6 +695,56 @@ namespace
     EXPECT_EQ(e.friction, 0.0);
     EXPECT_LT(std::abs(e.balance_error()), 0.01);
     EXPECT_LT(e.damping, e.injection_work / 3.0) << "stored " << e.stored() << " of " << e.injection_work;
+  }
+
+  // Tangential channels: the wire starts as an S of two half circles
+  // between inlets on the wall, leaves both channels along the wall, and the
+  // injected length is exact; an elastic, frictionless wire then winds into
+  // a spiral on the wall with its energy balanced.
+  TEST(ChainModel, TangentialChannelsStartOnAnSAndWindOntoTheWall)
+  {
+    const auto s =
+        scene::read_scene("", {"Cavity/Radius=12", "Injection/Speed=0.1", "Injection/Channels=tangential",
+                               "Wire/Plasticity/Enabled=false", "Contact/Friction/Static coefficient=0",
+                               "Injection/Maximum packing density=0.5", "Output/Progress=off"});
+    discrete::ChainModel m(s);
+    const double r_inlet = 11.5, l0 = std::round(M_PI * r_inlet);
+    EXPECT_DOUBLE_EQ(m.injected_length(), l0);
+    {
+      const auto &c = m.chain();
+      // Channel nodes on the inlets' tangents, the rest on the S.
+      for (int k = c.first; k < c.last; ++k)
+        {
+          const Vec2 p = c.x[k];
+          if (p.x < 0.0 && p.y >= 0.0)
+            EXPECT_NEAR(p.x, -r_inlet, 1e-12) << "node " << k;
+          else if (p.x > 0.0 && p.y <= 0.0)
+            EXPECT_NEAR(p.x, r_inlet, 1e-12) << "node " << k;
+          else
+            EXPECT_NEAR(norm(p - Vec2{p.y < 0.0 ? -0.5 * r_inlet : 0.5 * r_inlet, 0.0}), 0.5 * r_inlet, 1e-9)
+                << "node " << k;
+        }
+      for (int k = c.first; k + 1 < c.last; ++k)
+        EXPECT_NEAR(norm(c.x[k + 1] - c.x[k]), 1.0, 0.03) << "segment " << k;
+    }
+    const injection::Channels ch(12.0, 0.1, 10.0);
+    while (m.injected_length() < 0.5 * M_PI * 144.0)
+      m.step();
+    EXPECT_DOUBLE_EQ(m.injected_length(), l0 + 2.0 * ch.injected_per_channel(m.time()));
+    const auto &e = m.energies();
+    EXPECT_LT(std::abs(e.balance_error()), 0.01);
+    EXPECT_LT(e.damping, e.injection_work / 3.0) << "stored " << e.stored() << " of " << e.injection_work;
+    // The outermost turn lies on the wall: nodes at r' all round.
+    const auto &c = m.chain();
+    std::vector<double> outermost(8, 0.0);
+    for (int k = c.first; k < c.last; ++k)
+      {
+        const double angle = std::atan2(c.x[k].y, c.x[k].x) + M_PI;
+        auto &o = outermost[std::min(7, static_cast<int>(angle / (0.25 * M_PI)))];
+        o = std::max(o, norm(c.x[k]));
+      }
+    for (const double o : outermost)
+      EXPECT_GT(o, r_inlet - 0.1);
   }
 
   TEST(ChainModel, SaveAndLoadContinueBitForBit)

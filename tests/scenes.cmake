@@ -52,6 +52,16 @@ wirefem_bad_input(${CMAKE_SOURCE_DIR}/validation/capstan/capstan.prm "capstan_wr
 file(READ ${CMAKE_SOURCE_DIR}/validation/capstan/capstan.prm capstan_scene)
 file(WRITE ${CMAKE_BINARY_DIR}/capstan_fem.prm "${capstan_scene}\nset Model = fem\n")
 wirefem_bad_input(${CMAKE_BINARY_DIR}/capstan_fem.prm "capstan_fem_force|Capstan/Control=force")
+# Tangential channels are the discrete model's only.
+file(READ ${CMAKE_SOURCE_DIR}/prm/quick.prm quick_prm)
+file(WRITE ${CMAKE_BINARY_DIR}/quick_tangential_fem.prm "${quick_prm}\nset Model = fem\n")
+wirefem_bad_input(${CMAKE_BINARY_DIR}/quick_tangential_fem.prm "tangential_fem|Injection/Channels=tangential")
+# A tangential run through the executable, to its end without a numerical stop.
+add_test(NAME scene.tangential_channels_run
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
+                 -DSETTING=Injection/Channels=tangential -DOUT=${SCENE_OUT}/tangential
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+set_tests_properties(scene.tangential_channels_run PROPERTIES LABELS regression)
 # The FEM's capstan through the executable (coarse: 19 elements).
 add_test(NAME scene.capstan_fem_runs
          COMMAND ${WIREFEM_EXE} ${CMAKE_BINARY_DIR}/capstan_fem.prm "--set=FEM/Element length=2"

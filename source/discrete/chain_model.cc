@@ -32,14 +32,27 @@ namespace wirefem::discrete
 
     // Storage for every node the run can hold: the wire that fills the
     // cavity up to the maximum packing density, plus the channel nodes.
-    const int n0 = static_cast<int>(std::lround(2.0 * radius / lambda0));
+    // Tangential channels start from an S of two half circles between the
+    // inlets (place_initial_wire), n0 whole segments long.
+    if (scene.injection.tangential_channels)
+      {
+        const double r_inlet = radius - 0.5 * diameter;
+        channels.make_tangential(r_inlet, std::lround(M_PI * r_inlet / lambda0) * lambda0);
+      }
+    const int n0 = static_cast<int>(std::lround(channels.initial_length() / lambda0));
     const double max_length = scene.injection.maximum_packing_density * M_PI * radius * radius / diameter;
     // The channels push the wire by its nodes deeper than `hold` inside
     // them; between there and the mouth the channel walls guide it
     // (ChannelTerm), which lets each node go gradually as it leaves.
     hold = std::max(2.0 * lambda0, 2.0 * diameter);
+    // A tangential channel runs beside the wall: wire in the cavity comes
+    // within d of its axis up to sqrt(2 r' d) behind the inlet. The channel
+    // holds wire (guided by its walls) further back than that, so that no
+    // node enters where wire in the cavity already is.
+    if (channels.is_tangential())
+      hold += std::sqrt(2.0 * channels.inlet(Side::right).x * diameter) + diameter;
     const int extra =
-        static_cast<int>(std::ceil(std::max(0.0, max_length - 2.0 * radius) / (2.0 * lambda0))) +
+        static_cast<int>(std::ceil(std::max(0.0, max_length - channels.initial_length()) / (2.0 * lambda0))) +
         static_cast<int>(std::ceil(hold / lambda0)) + 8;
     nodes = Chain(n0 + 1 + 2 * 2 + 2 * extra);
     nodes.lambda0 = lambda0;
@@ -86,7 +99,10 @@ namespace wirefem::discrete
         wall.coefficients.mu_dynamic = fr.wall_dynamic_coefficient;
         wall.friction = keep || fr.wall_static_coefficient > 0.0;
         any_friction |= wall.friction;
-        terms.push_back(std::make_unique<WallContactTerm>(radius, wall, nodes.capacity()));
+        auto w = std::make_unique<WallContactTerm>(radius, wall, nodes.capacity());
+        if (channels.is_tangential())
+          w->make_channels_tangential();
+        terms.push_back(std::move(w));
         effects.push_back("wall contact");
       }
     if (con.self_contact)
@@ -148,7 +164,7 @@ namespace wirefem::discrete
 
   void ChainModel::place_initial_wire(const scene::Scene &scene)
   {
-    const int n0 = static_cast<int>(std::lround(2.0 * radius / lambda0));
+    const int n0 = static_cast<int>(std::lround(channels.initial_length() / lambda0));
     const int extra = (nodes.capacity() - (n0 + 1 + 4)) / 2;
     nodes.first = extra;
     left_origin = nodes.first + 1;
@@ -158,6 +174,28 @@ namespace wirefem::discrete
       nodes.x[k] = channels.position(Side::left, (k - left_origin) * lambda0, 0.0);
     for (int k = right_origin; k < nodes.last; ++k)
       nodes.x[k] = channels.position(Side::right, (right_origin - k) * lambda0, 0.0);
+
+    if (channels.is_tangential())
+      {
+        // The S from the left inlet, heading down, round the half circle of
+        // radius r'/2 centred at (-r'/2, 0) to the centre, then round the
+        // one centred at (r'/2, 0) to the right inlet, arriving heading
+        // down: both arms leave their channels along the wall. Its nodes
+        // are n0 equal chords apart (a relative prestretch below
+        // lambda_0 / (2 pi r'), booked as initial energy).
+        const double rho = 0.5 * channels.inlet(Side::right).x;
+        const double ds = M_PI * 2.0 * rho / n0;
+        for (int k = left_origin + 1; k < right_origin; ++k)
+          {
+            const double s = (k - left_origin) * ds;
+            const double theta = s < M_PI * rho ? M_PI + s / rho : 2.0 * M_PI - s / rho;
+            const double centre = s < M_PI * rho ? -rho : rho;
+            nodes.x[k] = {centre + rho * std::cos(theta), rho * std::sin(theta)};
+          }
+        for (int k = nodes.first; k < nodes.last; ++k)
+          nodes.v[k] = Vec2{};
+        return;
+      }
 
     // The seeded perturbation (injection/inlet.h).
     const injection::InitialShape shape(scene.injection.seed, scene.injection.perturbation, 2.0 * radius,

@@ -61,13 +61,32 @@ namespace wirefem::discrete
     trial_history.clear();
     if (law.friction)
       friction_work.begin(c);
+    // Tangential channels: the wire in them (the end nodes behind each
+    // inlet, y > 0 at the left and y < 0 at the right) is the channels'.
+    int left_end = c.first, right_begin = c.last;
+    if (tangential)
+      {
+        while (left_end < c.last && c.x[left_end].y > 0.0)
+          ++left_end;
+        while (right_begin > left_end && c.x[right_begin - 1].y < 0.0)
+          --right_begin;
+      }
     for (int k = c.first; k < c.last; ++k)
       {
         const Vec2 p = c.x[k];
         const double dist = norm(p);
         double overlap;
         Vec2 n; // unit vector from the node towards the wall
-        if (std::abs(p.y) * radius < half_d * dist)
+        if (tangential)
+          {
+            if (k < left_end || k >= right_begin)
+              continue; // in a channel
+            overlap = dist + half_d - radius;
+            if (overlap <= 0.0)
+              continue;
+            n = (1.0 / dist) * p;
+          }
+        else if (std::abs(p.y) * radius < half_d * dist)
           {
             // Within an opening: the nearest wall is a corner of the mouth.
             const Vec2 corner{p.x > 0.0 ? corner_x : -corner_x, p.y > 0.0 ? half_d : -half_d};

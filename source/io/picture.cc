@@ -49,9 +49,10 @@ namespace wirefem::io
     struct Scene
     {
       double size_px = 0.0;
-      double extent = 1.0;   ///< half-width of the viewed square / 1.05 (scene units)
-      double scale = 1.0;    ///< pixels per scene unit
-      double diameter = 1.0; ///< wire diameter (scene units)
+      double extent = 1.0;     ///< half-width of the viewed square / 1.05 (scene units)
+      double scale = 1.0;      ///< pixels per scene unit
+      double diameter = 1.0;   ///< wire diameter (scene units)
+      bool tangential = false; ///< channels along the wall
 
       struct Segment
       {
@@ -182,26 +183,30 @@ namespace wirefem::io
       cairo_paint(cr);
 
       // Channels: a light strip of width d from the cavity wall to the edge
-      // of the picture, bounded by two walls.
+      // of the picture, bounded by two walls; tangential ones run along the
+      // wall from the inlets (-r + d/2, 0) up and (r - d/2, 0) down.
       cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
+      // The strip between pixel corners (x0, y0) and (x1, y1), with its
+      // walls along its length (vertical or horizontal).
+      const auto strip = [&](const double x0, const double y0, const double x1, const double y1,
+                             const bool vertical) {
+        cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+        cairo_rectangle(cr, std::min(x0, x1), std::min(y0, y1), std::abs(x1 - x0), std::abs(y1 - y0));
+        cairo_fill(cr);
+        cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+        cairo_set_line_width(cr, thin_px);
+        for (const double w : {0.0, 1.0})
+          {
+            cairo_move_to(cr, vertical ? x0 + w * (x1 - x0) : x0, vertical ? y0 : y0 + w * (y1 - y0));
+            cairo_line_to(cr, vertical ? x0 + w * (x1 - x0) : x1, vertical ? y1 : y0 + w * (y1 - y0));
+          }
+        cairo_stroke(cr);
+      };
       for (const double side : {-1.0, 1.0})
-        {
-          const double x_in = scene.px(side * r);
-          const double x_out = side > 0 ? size : 0.0;
-          const double y_top = scene.py(0.5 * d);
-          const double y_bottom = scene.py(-0.5 * d);
-          cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
-          cairo_rectangle(cr, std::min(x_in, x_out), y_top, std::abs(x_out - x_in), y_bottom - y_top);
-          cairo_fill(cr);
-          cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-          cairo_set_line_width(cr, thin_px);
-          for (const double y : {y_top, y_bottom})
-            {
-              cairo_move_to(cr, x_in, y);
-              cairo_line_to(cr, x_out, y);
-            }
-          cairo_stroke(cr);
-        }
+        if (scene.tangential)
+          strip(scene.px(side * r), scene.py(0.0), scene.px(side * (r - d)), side < 0 ? 0.0 : size, true);
+        else
+          strip(scene.px(side * r), scene.py(0.5 * d), side > 0 ? size : 0.0, scene.py(-0.5 * d), false);
 
       // Cavity wall, left open where the channels enter. The gaps are
       // symmetric about the x axis, so the orientation of the (flipped) pixel
@@ -209,7 +214,7 @@ namespace wirefem::io
       cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
       cairo_set_line_width(cr, thin_px);
       const double cx = scene.px(0.0), cy = scene.py(0.0), radius_px = r * scene.scale;
-      if (d < 2.0 * r)
+      if (!scene.tangential && d < 2.0 * r)
         {
           const double gap = std::asin(0.5 * d / r);
           cairo_new_sub_path(cr);
@@ -289,7 +294,8 @@ namespace wirefem::io
       throw std::invalid_argument("wirefem::io::write_pictures: size_px must be positive, got " +
                                   std::to_string(options.size_px));
 
-    const Scene scene = make_scene(wire, options.size_px);
+    Scene scene = make_scene(wire, options.size_px);
+    scene.tangential = options.tangential_channels;
     write_png_and_svg(
         options.size_px, options.size_px, [&](cairo_t *cr) { draw(cr, scene, options.caption); }, png_file,
         svg_file);

@@ -251,6 +251,12 @@ namespace wirefem::scene
                 "Scale of the perturbation's modes that are antisymmetric about the axis midway between "
                 "the inlets: 1 as drawn by the seed, 0 a start with the mirror symmetry of the set-up "
                 "(the up/down choice stays with the seed).");
+      d.declare("Injection/Channels", "radial", Patterns::Selection("radial|tangential"),
+                "radial: the paper's channels, on the x axis pointing at the centre, the wire starting "
+                "straight across the cavity. tangential: channels along the wall at (-r', 0) and (r', 0) "
+                "(r' = r - d/2), both pushing counter-clockwise, the wire starting as an S of two half "
+                "circles between them; the geometry of the tight-spiral estimate (validation case 6). "
+                "Discrete model only.");
       d.declare("Injection/Maximum packing density", "0.6", any_double,
                 "Stop at this phi = d L/(pi r^2) even if not jammed. Must exceed the initial 2d/(pi r).");
       d.declare("Injection/Jamming force", "50", any_double,
@@ -416,6 +422,7 @@ namespace wirefem::scene
       in.seed = static_cast<unsigned int>(std::stoul(d.get("Injection/Seed")));
       in.perturbation = d.get_double("Injection/Perturbation");
       in.mirror_asymmetry = d.get_double("Injection/Mirror asymmetry");
+      in.tangential_channels = d.get("Injection/Channels") == "tangential";
       in.maximum_packing_density = d.get_double("Injection/Maximum packing density");
       in.jamming_force = d.get_double("Injection/Jamming force");
       in.jamming_window = d.get_double("Injection/Jamming window");
@@ -505,9 +512,14 @@ namespace wirefem::scene
         }
       check(in.perturbation >= 0, w, "Injection/Perturbation", "must not be negative");
       check(in.mirror_asymmetry >= 0, w, "Injection/Mirror asymmetry", "must not be negative");
-      const double phi0 = 2.0 * s.cavity.radius / (M_PI * s.cavity.radius * s.cavity.radius);
+      check(!in.tangential_channels || s.model == ModelType::discrete, w, "Injection/Channels",
+            "tangential channels are implemented in the discrete model only");
+      // The initial wire: straight across (2 r), or the S between tangential
+      // inlets (pi (r - d/2)).
+      const double l0 = in.tangential_channels ? M_PI * (s.cavity.radius - 0.5) : 2.0 * s.cavity.radius;
+      const double phi0 = l0 / (M_PI * s.cavity.radius * s.cavity.radius);
       check(in.maximum_packing_density > phi0, w, "Injection/Maximum packing density",
-            "must exceed the initial packing density 2/(pi r) = " + std::to_string(phi0));
+            "must exceed the initial packing density " + std::to_string(phi0));
       check(in.maximum_packing_density <= 1.0, w, "Injection/Maximum packing density", "must not exceed 1");
       check(in.jamming_force > 0, w, "Injection/Jamming force", "must be positive");
       check(in.jamming_window > 0, w, "Injection/Jamming window", "must be positive");

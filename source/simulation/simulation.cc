@@ -401,6 +401,7 @@ namespace wirefem::simulation
       {
         io::PictureOptions opt;
         opt.size_px = scene.output.picture_size;
+        opt.tangential_channels = scene.injection.tangential_channels;
         opt.caption = fmt::format("{}  phi = {:.3f}  loops = {}  {}", scene.name, result.phi_final,
                                   result.loops, result.morphology);
         io::write_pictures(w, (dir / "final.png").string(), (dir / "final.svg").string(), opt);

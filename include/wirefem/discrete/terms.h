@@ -271,6 +271,10 @@ namespace wirefem::discrete
   public:
     /// capacity: number of nodes of the chain (needed with friction).
     WallContactTerm(double radius, const ContactLaw &law, int capacity = 0);
+    /// The channels are tangential (injection/channels.h): the wall is a
+    /// whole circle, without the radial mouths, and the wire still in a
+    /// channel (the end nodes behind its inlet) is left to the channel walls.
+    void make_channels_tangential() { tangential = true; }
     const char *name() const override { return "wall contact"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
     void commit() override;
@@ -280,6 +284,7 @@ namespace wirefem::discrete
   private:
     double radius;
     ContactLaw law;
+    bool tangential = false;
     std::unordered_map<int, contact::FrictionHistory> history, trial_history;
     FrictionWork friction_work;
   };

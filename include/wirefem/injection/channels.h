@@ -1,9 +1,13 @@
 // The two injection channels: at (-r, 0) pointing +x and at (r, 0) pointing
-// -x. Each pushes the wire in at the same speed: it rises smoothly from 0 to v
+// -x (radial, the paper's set-up), or tangential: along the wall, at
+// (-r', 0) pointing -y and at (r', 0) pointing +y with r' = r - d/2 the
+// radius of the wire's centreline on the wall, so both push the wire round
+// the wall counter-clockwise. Each pushes the wire in at the same speed: it rises smoothly from 0 to v
 // over the ramp time T, v(t) = v (1 - cos(pi t/T))/2, and stays at v after, so
 // the start sends no shock wave into the wire. Each channel has injected
 //   u(t) = v (t/2 - T/(2 pi) sin(pi t/T))   for t < T,   v (t - T/2) after,
-// and the wire inside the cavity is exactly L = 2 r + 2 u(t).
+// and the wire inside the cavity is exactly L = L0 + 2 u(t), with L0 = 2 r
+// (radial) or the rest length of the initial S between tangential inlets.
 //
 // Optional slow start: the first l0 per channel are pushed at v0 (ramped up
 // as above), then the speed rises by the same smooth ramp from v0 to v. The
@@ -34,7 +38,8 @@ namespace wirefem::injection
   public:
     Channels(double radius, double speed, double ramp_time = 0.0, double slow_speed = 0.0,
              double slow_length = 0.0)
-      : radius(radius)
+      : inlet_radius(radius)
+      , initial_length_(2.0 * radius)
       , speed(slow_length > 0.0 ? slow_speed : speed)
       , ramp(ramp_time)
       , second_speed(slow_length > 0.0 ? speed - slow_speed : 0.0)
@@ -43,9 +48,24 @@ namespace wirefem::injection
     {
     }
 
-    geometry::Vec2 inlet(Side s) const { return {s == Side::left ? -radius : radius, 0.0}; }
+    /// Makes the channels tangential (see above): inlets at (-/+ r', 0),
+    /// and L0 the wire's initial rest length inside the cavity.
+    void make_tangential(double centreline_radius, double initial_length)
+    {
+      tangential = true;
+      inlet_radius = centreline_radius;
+      initial_length_ = initial_length;
+    }
+    bool is_tangential() const { return tangential; }
+
+    geometry::Vec2 inlet(Side s) const { return {s == Side::left ? -inlet_radius : inlet_radius, 0.0}; }
     /// Unit vector along which the channel pushes, into the cavity.
-    geometry::Vec2 axis(Side s) const { return {s == Side::left ? 1.0 : -1.0, 0.0}; }
+    geometry::Vec2 axis(Side s) const
+    {
+      if (tangential)
+        return {0.0, s == Side::left ? -1.0 : 1.0};
+      return {s == Side::left ? 1.0 : -1.0, 0.0};
+    }
 
     /// Position at time t of the material point S of the wire in channel s.
     geometry::Vec2 position(Side s, double material_coordinate, double t) const
@@ -75,8 +95,10 @@ namespace wirefem::injection
     {
       return ramp_length(speed, t) + (t > second_start ? ramp_length(second_speed, t - second_start) : 0.0);
     }
-    /// Wire length inside the cavity, L = 2 r + 2 u(t).
-    double injected_length(double t) const { return 2.0 * radius + 2.0 * injected_per_channel(t); }
+    /// Wire length inside the cavity, L = L0 + 2 u(t).
+    double injected_length(double t) const { return initial_length_ + 2.0 * injected_per_channel(t); }
+    /// L0.
+    double initial_length() const { return initial_length_; }
 
   private:
     // One smooth ramp from 0 to v over T, started at t = 0.
@@ -94,8 +116,10 @@ namespace wirefem::injection
                       : v * (t - 0.5 * ramp);
     }
 
-    double radius;
-    double speed; ///< of the first ramp: the slow start's, or the only one
+    bool tangential = false;
+    double inlet_radius;    ///< distance of the inlets from the centre
+    double initial_length_; ///< L0
+    double speed;           ///< of the first ramp: the slow start's, or the only one
     double ramp;
     double second_speed; ///< height of the second ramp (0 without a slow start)
     double second_start; ///< its start (infinite without a slow start)

@@ -12,8 +12,9 @@ namespace wirefem::io
 {
   struct PictureOptions
   {
-    int size_px = 1000;  ///< width and height of the PNG in pixels
-    std::string caption; ///< one line drawn at the bottom-left, may be empty
+    int size_px = 1000;               ///< width and height of the PNG in pixels
+    std::string caption;              ///< one line drawn at the bottom-left, may be empty
+    bool tangential_channels = false; ///< draw the channels along the wall (Injection/Channels)
   };
 
   /// Writes the same drawing to a PNG and an SVG file. Throws

@@ -160,13 +160,14 @@ namespace wirefem::scene
 
   struct InjectionParameters
   {
-    double speed = 1.0;             ///< injection speed of each channel (d / time)
-    double ramp_time = 10.0;        ///< time over which the speed rises smoothly from 0
-    double slow_start_speed = 0.0;  ///< speed (d / time) of the slow start
-    double slow_start_length = 0.0; ///< length (d) each channel pushes at it; 0: no slow start
-    unsigned int seed = 1;          ///< seed of the symmetry-breaking perturbation
-    double perturbation = 0.5;      ///< amplitude of the initial transverse perturbation (d)
-    double mirror_asymmetry = 1.0;  ///< scale of its modes antisymmetric about the mid-plane (0: symmetric)
+    double speed = 1.0;               ///< injection speed of each channel (d / time)
+    double ramp_time = 10.0;          ///< time over which the speed rises smoothly from 0
+    double slow_start_speed = 0.0;    ///< speed (d / time) of the slow start
+    double slow_start_length = 0.0;   ///< length (d) each channel pushes at it; 0: no slow start
+    unsigned int seed = 1;            ///< seed of the symmetry-breaking perturbation
+    double perturbation = 0.5;        ///< amplitude of the initial transverse perturbation (d)
+    double mirror_asymmetry = 1.0;    ///< scale of its modes antisymmetric about the mid-plane (0: symmetric)
+    bool tangential_channels = false; ///< channels along the wall instead of radial (discrete model)
     double maximum_packing_density = 0.6; ///< stop at this phi even if not jammed
     double jamming_force = 50.0;          ///< jammed when the mean inlet force exceeds this (force)
     double jamming_window = 1.0;          ///< injected length over which the force is averaged (d)
