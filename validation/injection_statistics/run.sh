@@ -1,8 +1,8 @@
 #!/bin/bash
 # The runs of the injection-statistics study (validation/README.md): the
 # classic scene at (cavity radius f, injection speed, time step factor,
-# seed) as listed below: f = 25 for the time step and the speed, f = 15 for
-# the speed down to the quasi-static limit. Finished runs (with a
+# seed) as listed below: f = 25 and f = 15 for the speed down to the
+# quasi-static limit, f = 25 for the time step. Finished runs (with a
 # summary.json) are skipped.
 #   WIREFEM=build-ci/wirefem RUNS=build-ci/injection_statistics validation/injection_statistics/run.sh
 set -e
@@ -37,6 +37,10 @@ done <<'LIST'
 25 0.03 0.25 3
 25 0.01 0.25 1
 25 0.01 0.25 2
+25 0.01 0.25 3
+25 0.003 0.25 1
+25 0.003 0.25 2
+25 0.003 0.25 3
 15 0.3 0.25 1
 15 0.3 0.25 2
 15 0.3 0.25 3
