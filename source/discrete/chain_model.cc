@@ -192,18 +192,17 @@ namespace wirefem::discrete
             const double centre = s < M_PI * rho ? -rho : rho;
             nodes.x[k] = {centre + rho * std::cos(theta), rho * std::sin(theta)};
           }
-        for (int k = nodes.first; k < nodes.last; ++k)
-          nodes.v[k] = Vec2{};
-        return;
       }
-
-    // The seeded perturbation (injection/inlet.h).
-    const injection::InitialShape shape(scene.injection.seed, scene.injection.perturbation, 2.0 * radius,
-                                        scene.injection.mirror_asymmetry);
-    for (int k = left_origin + 1; k < right_origin; ++k)
+    else
       {
-        const double xi = (k - left_origin) * lambda0;
-        nodes.x[k] = {xi - radius, shape.offset(xi)};
+        // The seeded perturbation (injection/inlet.h).
+        const injection::InitialShape shape(scene.injection.seed, scene.injection.perturbation, 2.0 * radius,
+                                            scene.injection.mirror_asymmetry);
+        for (int k = left_origin + 1; k < right_origin; ++k)
+          {
+            const double xi = (k - left_origin) * lambda0;
+            nodes.x[k] = {xi - radius, shape.offset(xi)};
+          }
       }
     for (int k = nodes.first; k < nodes.last; ++k)
       nodes.v[k] = Vec2{}; // the channels start from rest

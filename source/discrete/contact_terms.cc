@@ -62,7 +62,8 @@ namespace wirefem::discrete
     if (law.friction)
       friction_work.begin(c);
     // Tangential channels: the wire in them (the end nodes behind each
-    // inlet, y > 0 at the left and y < 0 at the right) is the channels'.
+    // inlet, y > 0 at the left and y < 0 at the right) is the channels',
+    // and the wall has no radial mouths.
     int left_end = c.first, right_begin = c.last;
     if (tangential)
       {
@@ -71,22 +72,13 @@ namespace wirefem::discrete
         while (right_begin > left_end && c.x[right_begin - 1].y < 0.0)
           --right_begin;
       }
-    for (int k = c.first; k < c.last; ++k)
+    for (int k = left_end; k < right_begin; ++k)
       {
         const Vec2 p = c.x[k];
         const double dist = norm(p);
         double overlap;
         Vec2 n; // unit vector from the node towards the wall
-        if (tangential)
-          {
-            if (k < left_end || k >= right_begin)
-              continue; // in a channel
-            overlap = dist + half_d - radius;
-            if (overlap <= 0.0)
-              continue;
-            n = (1.0 / dist) * p;
-          }
-        else if (std::abs(p.y) * radius < half_d * dist)
+        if (!tangential && std::abs(p.y) * radius < half_d * dist)
           {
             // Within an opening: the nearest wall is a corner of the mouth.
             const Vec2 corner{p.x > 0.0 ? corner_x : -corner_x, p.y > 0.0 ? half_d : -half_d};
