@@ -9,6 +9,7 @@
 #include <wirefem/fem/contact_element.h>
 #include <wirefem/fem/rod_element.h>
 #include <wirefem/fem/rod_model.h>
+#include <wirefem/injection/channels.h>
 #include <wirefem/scene/scene_reader.h>
 
 #include <deal.II/lac/full_matrix.h>
@@ -346,30 +347,47 @@ namespace
   TEST(FemContact, WallForceIsTheGradientAndTangentTheDerivative)
   {
     const double R = 10.0;
-    for (const Vec2 x : {Vec2{3.0, 9.35}, Vec2{-9.9, 0.2} /* at a mouth corner */})
+    for (const Vec2 x : {Vec2{3.0, 9.35}, Vec2{-9.9, 0.2} /* at a mouth corner, if any */})
       for (const bool friction : {false, true})
-        {
-          const Vec2 v0{0.003, -0.002};
-          const double c = 40.0;
-          fem::ContactContribution cc, cp, cm;
-          ASSERT_TRUE(fem::wall_contact(R, settings(friction), 0.7, x, v0, c, cc));
-          for (int j = 0; j < 2; ++j)
-            {
-              const double h = 1e-7;
-              Vec2 xp = x, xm = x;
-              (j ? xp.y : xp.x) += h;
-              (j ? xm.y : xm.x) -= h;
-              ASSERT_TRUE(fem::wall_contact(R, settings(friction), 0.7, xp, v0, c, cp));
-              ASSERT_TRUE(fem::wall_contact(R, settings(friction), 0.7, xm, v0, c, cm));
-              for (int i = 0; i < 2; ++i)
-                EXPECT_NEAR((cp.residual[i] - cm.residual[i]) / (2 * h), cc.tangent[i * 2 + j],
-                            1e-5 * std::abs(cc.tangent[i * 2 + j]) + 1e-6);
-              if (!friction)
-                {
-                  EXPECT_NEAR((cp.energy - cm.energy) / (2 * h), cc.residual[j], 1e-6 * cc.normal_force);
-                }
-            }
-        }
+        for (const bool mouths : {true, false})
+          {
+            const Vec2 v0{0.003, -0.002};
+            const double c = 40.0;
+            auto st = settings(friction);
+            st.mouths = mouths;
+            fem::ContactContribution cc, cp, cm;
+            ASSERT_TRUE(fem::wall_contact(R, st, 0.7, x, v0, c, cc));
+            if (!friction)
+              {
+                // Without mouths the wall pushes towards the centre, by k w (|x| + d/2 - R).
+                const double radial = (cc.residual[0] * x.x + cc.residual[1] * x.y) / norm(x);
+                const double tangential = (cc.residual[1] * x.x - cc.residual[0] * x.y) / norm(x);
+                if (!mouths || x.x > 0.0)
+                  {
+                    EXPECT_NEAR(radial, st.stiffness * 0.7 * (norm(x) + 0.5 - R), 1e-9 * st.stiffness);
+                    EXPECT_NEAR(tangential, 0.0, 1e-9 * st.stiffness);
+                  }
+                else
+                  EXPECT_GT(std::abs(tangential), 0.01 * std::abs(radial))
+                      << "the mouth's corner pushes aslant";
+              }
+            for (int j = 0; j < 2; ++j)
+              {
+                const double h = 1e-7;
+                Vec2 xp = x, xm = x;
+                (j ? xp.y : xp.x) += h;
+                (j ? xm.y : xm.x) -= h;
+                ASSERT_TRUE(fem::wall_contact(R, st, 0.7, xp, v0, c, cp));
+                ASSERT_TRUE(fem::wall_contact(R, st, 0.7, xm, v0, c, cm));
+                for (int i = 0; i < 2; ++i)
+                  EXPECT_NEAR((cp.residual[i] - cm.residual[i]) / (2 * h), cc.tangent[i * 2 + j],
+                              1e-5 * std::abs(cc.tangent[i * 2 + j]) + 1e-6);
+                if (!friction)
+                  {
+                    EXPECT_NEAR((cp.energy - cm.energy) / (2 * h), cc.residual[j], 1e-6 * cc.normal_force);
+                  }
+              }
+          }
   }
 
   TEST(FemContact, SpringLawWallTangentIsTheDerivativeAndItsForceTheDiscreteLaw)
@@ -570,6 +588,63 @@ namespace
     EXPECT_LT(std::abs(e.balance_error()), 0.01) << "in " << e.initial + e.injection_work;
     EXPECT_LT(m.report().max_penetration, 0.1);
   }
+  TEST(RodModel, TangentialChannelsStartOnAnSAndWindOntoTheWall)
+  {
+    // As the discrete model's test (discrete_test.cc), in the FEM: an
+    // elastic, frictionless wire from the S between tangential inlets.
+    const auto s = scene::read_scene("", {"Model=fem", "Cavity/Radius=10", "Injection/Speed=1",
+                                          "Injection/Channels=tangential", "Wire/Plasticity/Enabled=false",
+                                          "Contact/Friction/Static coefficient=0",
+                                          "Injection/Maximum packing density=0.5", "Output/Progress=off"});
+    fem::RodModel m(s);
+    const double r_inlet = 9.5, rho = 0.5 * r_inlet, l0 = M_PI * r_inlet;
+    EXPECT_DOUBLE_EQ(m.injected_length(), l0);
+    {
+      // The free nodes on the two half circles (the first half circle
+      // below the x axis), and the curvature +-1/rho on the elements that
+      // lie wholly on one of them.
+      const auto w = m.wire_state();
+      const auto n = w.points.size();
+      ASSERT_GT(n, 20u);
+      EXPECT_EQ(w.points.front().x, -r_inlet);
+      EXPECT_EQ(w.points.back().x, r_inlet);
+      int checked = 0;
+      for (std::size_t k = 1; k + 1 < n; ++k)
+        {
+          const Vec2 p = w.points[k];
+          const double sk = w.arc_length[k];
+          const bool first_half = sk < 0.5 * l0;
+          EXPECT_EQ(p.y < 0.0, first_half) << "node " << k;
+          EXPECT_NEAR(norm(p - Vec2{first_half ? -rho : rho, 0.0}), rho, 1e-12) << "node " << k;
+          if (sk > 2.0 && sk < l0 - 2.0 && std::abs(sk - 0.5 * l0) > 2.0)
+            {
+              EXPECT_NEAR(w.curvature[k], first_half ? 1.0 / rho : -1.0 / rho, 1e-9) << "node " << k;
+              ++checked;
+            }
+        }
+      EXPECT_GT(checked, 15);
+    }
+    const injection::Channels ch(10.0, 1.0, 10.0);
+    while (m.injected_length() < 0.4 * M_PI * 100.0)
+      m.step();
+    EXPECT_DOUBLE_EQ(m.injected_length(), l0 + 2.0 * ch.injected_per_channel(m.time()));
+    const auto &e = m.energies();
+    EXPECT_LT(std::abs(e.balance_error()), 0.01) << "in " << e.initial + e.injection_work;
+    EXPECT_LT(m.report().max_penetration, 0.1);
+    EXPECT_GT(m.report().n_wall_contacts, 0);
+    // The outermost turn lies on the wall: nodes near r' all round.
+    const auto w = m.wire_state();
+    std::vector<double> outermost(8, 0.0);
+    for (const Vec2 p : w.points)
+      {
+        const double angle = std::atan2(p.y, p.x) + M_PI;
+        auto &o = outermost[std::min(7, static_cast<int>(angle / (0.25 * M_PI)))];
+        o = std::max(o, norm(p));
+      }
+    for (const double o : outermost)
+      EXPECT_GT(o, r_inlet - 0.1);
+  }
+
   TEST(FemCapstan, AssembledTangentIsTheDerivativeOfTheAssembledResidual)
   {
     // Full end force from the first step (no ramp), so the follower force,

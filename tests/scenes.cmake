@@ -52,16 +52,19 @@ wirefem_bad_input(${CMAKE_SOURCE_DIR}/validation/capstan/capstan.prm "capstan_wr
 file(READ ${CMAKE_SOURCE_DIR}/validation/capstan/capstan.prm capstan_scene)
 file(WRITE ${CMAKE_BINARY_DIR}/capstan_fem.prm "${capstan_scene}\nset Model = fem\n")
 wirefem_bad_input(${CMAKE_BINARY_DIR}/capstan_fem.prm "capstan_fem_force|Capstan/Control=force")
-# Tangential channels are the discrete model's only.
+# Tangential runs through the executable, both models, to their ends
+# without a numerical stop.
 file(READ ${CMAKE_SOURCE_DIR}/prm/quick.prm quick_prm)
-file(WRITE ${CMAKE_BINARY_DIR}/quick_tangential_fem.prm "${quick_prm}\nset Model = fem\n")
-wirefem_bad_input(${CMAKE_BINARY_DIR}/quick_tangential_fem.prm "tangential_fem|Injection/Channels=tangential")
-# A tangential run through the executable, to its end without a numerical stop.
+file(WRITE ${CMAKE_BINARY_DIR}/quick_fem.prm "${quick_prm}\nset Model = fem\n")
 add_test(NAME scene.tangential_channels_run
          COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
                  -DSETTING=Injection/Channels=tangential -DOUT=${SCENE_OUT}/tangential
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
-set_tests_properties(scene.tangential_channels_run PROPERTIES LABELS regression)
+add_test(NAME scene.tangential_channels_fem_run
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_BINARY_DIR}/quick_fem.prm
+                 -DSETTING=Injection/Channels=tangential -DOUT=${SCENE_OUT}/tangential_fem
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+set_tests_properties(scene.tangential_channels_run scene.tangential_channels_fem_run PROPERTIES LABELS regression)
 # The FEM's capstan through the executable (coarse: 19 elements).
 add_test(NAME scene.capstan_fem_runs
          COMMAND ${WIREFEM_EXE} ${CMAKE_BINARY_DIR}/capstan_fem.prm "--set=FEM/Element length=2"
@@ -84,7 +87,7 @@ set_tests_properties(scene.cantilever_fem_runs PROPERTIES LABELS regression
 # python3 (numpy, scipy, matplotlib), whatever python3 comes first on PATH.
 find_program(WIREFEM_PYTHON python3 PATHS /usr/bin NO_DEFAULT_PATH)
 foreach(study "cantilever;1800" "buckling;3600" "plastic_cycles;3600" "capstan;3600" "continuum;3600"
-        "spiral_force;7200")
+        "spiral_force;10800")
   list(GET study 0 name)
   list(GET study 1 timeout)
   add_test(NAME validation.${name}

@@ -54,11 +54,12 @@ namespace wirefem::fem
     /// The wall's outward normal n at x and the overlap g, with their
     /// derivatives with respect to x: the circle, or within an opening the
     /// corner of the mouth. Returns false when x does not touch.
-    bool wall_geometry(const double radius, const double diameter, const Vec2 &x, Fad &nx, Fad &ny, Fad &g)
+    bool wall_geometry(const double radius, const double diameter, const bool mouths, const Vec2 &x, Fad &nx,
+                       Fad &ny, Fad &g)
     {
       const double half_d = 0.5 * diameter;
       const double dist = norm(x);
-      const bool in_opening = std::abs(x.y) * radius < half_d * dist;
+      const bool in_opening = mouths && std::abs(x.y) * radius < half_d * dist;
       const Vec2 corner{x.x > 0.0 ? std::sqrt(radius * radius - half_d * half_d)
                                   : -std::sqrt(radius * radius - half_d * half_d),
                         x.y > 0.0 ? half_d : -half_d};
@@ -99,7 +100,7 @@ namespace wirefem::fem
     bool wall_point(const double radius, const ContactSettings &s, const double weight, const Vec2 &x,
                     WallPoint &w)
     {
-      if (!wall_geometry(radius, s.diameter, x, w.nx, w.ny, w.g))
+      if (!wall_geometry(radius, s.diameter, s.mouths, x, w.nx, w.ny, w.g))
         return false;
       w.px = Fad(2, 0, x.x);
       w.py = Fad(2, 1, x.y);

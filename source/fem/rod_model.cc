@@ -201,13 +201,25 @@ namespace wirefem::fem
     // two elements of margin in each channel.
     const double L_max = s.injection.maximum_packing_density * M_PI * radius * radius / diameter;
     hold = std::max(2.0 * h, 2.0 * diameter);
+    // Tangential channels start from an S of two half circles between the
+    // inlets, L0 = pi r' long (not rounded: the mesh need not end at the
+    // inlets). As in the discrete model, such a channel holds its wire
+    // sqrt(2 r' d) + d further back: wire in the cavity comes within d of
+    // its axis up to sqrt(2 r' d) behind the inlet.
+    if (s.injection.tangential_channels)
+      {
+        const double r_inlet = radius - 0.5 * diameter;
+        channels.make_tangential(r_inlet, M_PI * r_inlet);
+        hold += std::sqrt(2.0 * r_inlet * diameter) + diameter;
+      }
+    const double L0 = channels.initial_length();
     k_channel = s.contact.normal_stiffness / diameter;
-    const double per_channel = 0.5 * (L_max - 2.0 * radius) + 2.0 * h + hold;
+    const double per_channel = 0.5 * (L_max - L0) + 2.0 * h + hold;
     const unsigned int n_channel = static_cast<unsigned int>(std::ceil(per_channel / h));
-    const unsigned int n_cavity = static_cast<unsigned int>(std::ceil(2.0 * radius / h - 1e-9));
+    const unsigned int n_cavity = static_cast<unsigned int>(std::ceil(L0 / h - 1e-9));
     n_cells = 2 * n_channel + n_cavity;
     a_left = n_channel * h;
-    a_right = a_left + 2.0 * radius;
+    a_right = a_left + L0;
 
     std::vector<dealii::Point<2>> vertices(n_cells + 1);
     for (unsigned int i = 0; i <= n_cells; ++i)
@@ -309,6 +321,7 @@ namespace wirefem::fem
     wall_settings.mu_static = fr.wall_static_coefficient;
     wall_settings.mu_dynamic = fr.wall_dynamic_coefficient;
     wall_settings.friction = con.wall_contact && (keep || fr.wall_static_coefficient > 0);
+    wall_settings.mouths = !channels.is_tangential();
     self_settings.mu_static = fr.static_coefficient;
     self_settings.mu_dynamic = fr.dynamic_coefficient;
     self_settings.friction = con.self_contact && (keep || fr.static_coefficient > 0);
@@ -366,15 +379,51 @@ namespace wirefem::fem
     free_range(0.0, first_free, last_free);
     wall_time = 0.0;
     prescribe(0.0, u, nullptr, nullptr, first_free, last_free);
-    const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, 2.0 * radius,
-                                        s.injection.mirror_asymmetry);
-    for (int k = first_free; k < last_free; ++k)
+    if (channels.is_tangential())
       {
-        const double xi = node_S[k] - a_left;
-        const bool across = xi > 0.0 && xi < 2.0 * radius; // else in a channel, on its axis
-        u[3 * k] = xi - radius;
-        u[3 * k + 1] = across ? shape.offset(xi) : 0.0;
-        u[3 * k + 2] = across ? std::atan(shape.slope(xi)) : 0.0;
+        // The S (as the discrete model's): from the left inlet heading down
+        // round the half circle of radius rho = r'/2 centred at (-rho, 0) to
+        // the centre, then round the one centred at (rho, 0) to the right
+        // inlet, arriving heading down. The wire in a channel lies on its
+        // axis.
+        const double rho = 0.5 * channels.inlet(Side::right).x;
+        for (int k = first_free; k < last_free; ++k)
+          {
+            const double xi = node_S[k] - a_left;
+            Vec2 pos;
+            double angle = channels.wire_angle();
+            if (xi <= 0.0 || xi >= L0)
+              pos = xi <= 0.0 ? channels.position(Side::left, xi, 0.0)
+                              : channels.position(Side::right, L0 - xi, 0.0);
+            else if (xi < M_PI * rho)
+              {
+                const double phi = M_PI + xi / rho;
+                pos = {-rho + rho * std::cos(phi), rho * std::sin(phi)};
+                angle += xi / rho;
+              }
+            else
+              {
+                const double phi = 2.0 * M_PI - xi / rho;
+                pos = {rho + rho * std::cos(phi), rho * std::sin(phi)};
+                angle += 2.0 * M_PI - xi / rho;
+              }
+            u[3 * k] = pos.x;
+            u[3 * k + 1] = pos.y;
+            u[3 * k + 2] = angle;
+          }
+      }
+    else
+      {
+        const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, 2.0 * radius,
+                                            s.injection.mirror_asymmetry);
+        for (int k = first_free; k < last_free; ++k)
+          {
+            const double xi = node_S[k] - a_left;
+            const bool across = xi > 0.0 && xi < 2.0 * radius; // else in a channel, on its axis
+            u[3 * k] = xi - radius;
+            u[3 * k + 1] = across ? shape.offset(xi) : 0.0;
+            u[3 * k + 2] = across ? std::atan(shape.slope(xi)) : 0.0;
+          }
       }
     // The initial acceleration, and the stored energy of the perturbed
     // wire. Where its curvature exceeds the yield curvature the wire starts
@@ -439,17 +488,17 @@ namespace wirefem::fem
         const Vec2 axis = channels.axis(side);
         x[3 * k] = pos.x;
         x[3 * k + 1] = pos.y;
-        x[3 * k + 2] = 0.0;
+        x[3 * k + 2] = channels.wire_angle();
         if (vel)
           {
             (*vel)[3 * k] = speed * axis.x;
-            (*vel)[3 * k + 1] = 0.0;
+            (*vel)[3 * k + 1] = speed * axis.y;
             (*vel)[3 * k + 2] = 0.0;
           }
         if (acc)
           {
             (*acc)[3 * k] = accel * axis.x;
-            (*acc)[3 * k + 1] = 0.0;
+            (*acc)[3 * k + 1] = accel * axis.y;
             (*acc)[3 * k + 2] = 0.0;
           }
       }
@@ -594,8 +643,19 @@ namespace wirefem::fem
       e.max_overlap = std::max(e.max_overlap, cc.overlap);
     };
     auto vel0 = [&](int k) { return Vec2{v0[3 * k], v0[3 * k + 1]}; };
+    // Tangential channels: the wire in them (the end nodes behind each
+    // inlet, y > 0 at the left and y < 0 at the right) is the channels',
+    // and the wall is a closed circle (wall_settings.mouths).
+    int wall_first = first, wall_last = last;
+    if (channels.is_tangential())
+      {
+        while (wall_first < last && u1[3 * wall_first + 1] > 0.0)
+          ++wall_first;
+        while (wall_last > wall_first && u1[3 * (wall_last - 1) + 1] < 0.0)
+          --wall_last;
+      }
     if (scene.contact.wall_contact)
-      for (int k = first; k < last; ++k)
+      for (int k = wall_first; k < wall_last; ++k)
         if (wall_contact(radius, wall_settings, node_weight(k), position(u1, k), vel0(k), c_vel, cc,
                          c_force > 0 ? 1.0 / c_force : 1.0))
           {

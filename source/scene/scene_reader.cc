@@ -255,8 +255,7 @@ namespace wirefem::scene
                 "radial: the paper's channels, on the x axis pointing at the centre, the wire starting "
                 "straight across the cavity. tangential: channels along the wall at (-r', 0) and (r', 0) "
                 "(r' = r - d/2), both pushing counter-clockwise, the wire starting as an S of two half "
-                "circles between them; the geometry of the tight-spiral estimate (validation case 6). "
-                "Discrete model only.");
+                "circles between them; the geometry of the tight-spiral estimate (validation case 6).");
       d.declare("Injection/Maximum packing density", "0.6", any_double,
                 "Stop at this phi = d L/(pi r^2) even if not jammed. Must exceed the initial 2d/(pi r).");
       d.declare("Injection/Jamming force", "50", any_double,
@@ -512,8 +511,6 @@ namespace wirefem::scene
         }
       check(in.perturbation >= 0, w, "Injection/Perturbation", "must not be negative");
       check(in.mirror_asymmetry >= 0, w, "Injection/Mirror asymmetry", "must not be negative");
-      check(!in.tangential_channels || s.model == ModelType::discrete, w, "Injection/Channels",
-            "tangential channels are implemented in the discrete model only");
       // The initial wire: straight across (2 r), or the S between tangential
       // inlets (pi (r - d/2)).
       const double l0 = in.tangential_channels ? M_PI * (s.cavity.radius - 0.5) : 2.0 * s.cavity.radius;

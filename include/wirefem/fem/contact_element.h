@@ -38,6 +38,9 @@ namespace wirefem::fem
     double mu_static = 0.0;
     double mu_dynamic = 0.0;
     double threshold_velocity = 0.01;
+    /// The wall has the radial channels' mouths (see wall_contact); false
+    /// for a closed circle (tangential channels).
+    bool mouths = true;
   };
 
   /// Contribution of one contact on up to four points.
@@ -54,7 +57,8 @@ namespace wirefem::fem
   };
 
   /// Wall of the cavity: a circle of radius r, open over |y| < d/2 at x = +-r
-  /// (the channels), where the corners of the openings are the contact.
+  /// (the radial channels), where the corners of the openings are the
+  /// contact; a closed circle when s.mouths is false.
   /// Returns false when the point does not touch.
   bool wall_contact(double radius, const ContactSettings &s, double weight, const geometry::Vec2 &x,
                     const geometry::Vec2 &v0, double c, ContactContribution &out,

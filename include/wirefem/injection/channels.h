@@ -57,6 +57,9 @@ namespace wirefem::injection
       initial_length_ = initial_length;
     }
     bool is_tangential() const { return tangential; }
+    /// Angle of the wire's tangent in both channels, taken along the wire
+    /// from the left end to the right: 0 (radial) or -pi/2 (tangential).
+    double wire_angle() const { return tangential ? -0.5 * M_PI : 0.0; }
 
     geometry::Vec2 inlet(Side s) const { return {s == Side::left ? -inlet_radius : inlet_radius, 0.0}; }
     /// Unit vector along which the channel pushes, into the cavity.

@@ -167,7 +167,7 @@ namespace wirefem::scene
     unsigned int seed = 1;            ///< seed of the symmetry-breaking perturbation
     double perturbation = 0.5;        ///< amplitude of the initial transverse perturbation (d)
     double mirror_asymmetry = 1.0;    ///< scale of its modes antisymmetric about the mid-plane (0: symmetric)
-    bool tangential_channels = false; ///< channels along the wall instead of radial (discrete model)
+    bool tangential_channels = false; ///< channels along the wall instead of radial
     double maximum_packing_density = 0.6; ///< stop at this phi even if not jammed
     double jamming_force = 50.0;          ///< jammed when the mean inlet force exceeds this (force)
     double jamming_window = 1.0;          ///< injected length over which the force is averaged (d)
