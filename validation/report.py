@@ -94,6 +94,18 @@ def orders(rows, key):
     return ", ".join(vals) if any(v != "-" for v in vals) else "-"
 
 
+def level_cells(rows, uncertainty, prefix):
+    """Per level: the cheapest row below it (its h or knob value after
+    prefix, its error and wall time), 'n/r' below the reference's
+    uncertainty, '-' where no row reaches it."""
+    cells = []
+    for lv in LEVELS:
+        best = cheapest(rows, "error_work", lv)
+        cells.append("n/r" if lv < uncertainty else
+                     f"{prefix}{best['h']:g}: {best['error_work']:.1e}, {best['wall_time_s']:.1f} s" if best else "-")
+    return cells
+
+
 def continuum_section(res, figures):
     out = [f"## {TITLES['continuum']}", "",
            "Elastic, frictionless wire injected into a cavity of radius 10 at speed 0.1 (ramp 20), from the "
@@ -118,13 +130,7 @@ def continuum_section(res, figures):
                 "levels below that are not resolved ('n/r'). Cheapest run of each model below each level:", "",
                 "| model | " + " | ".join(f"{lv:g}" for lv in LEVELS) + " |", "|---|" + "---|" * len(LEVELS)]
         for c in res["cases"]:
-            cells = []
-            for lv in LEVELS:
-                best = cheapest(c["rows"], "error_work", lv)
-                cells.append("n/r" if lv < u else
-                             f"h = {best['h']:g}: {best['error_work']:.1e}, {best['wall_time_s']:.1f} s" if best
-                             else "-")
-            out.append(f"| {c['model']} | " + " | ".join(cells) + " |")
+            out.append(f"| {c['model']} | " + " | ".join(level_cells(c["rows"], u, "h = ")) + " |")
         chain = next(c["rows"] for c in res["cases"] if c["model"] == "discrete")
         ratios = ", ".join(f"{b['wall_time_s'] / a['wall_time_s']:.0f}" for a, b in zip(chain, chain[1:]))
         out += ["", "Where the FEM reaches a level, it is the cheaper way to the continuum answer in this short "
@@ -148,12 +154,7 @@ def continuum_section(res, figures):
                 out.append(f"| {k['knob']} | {r['h']:g} | {r['error_work']:.1e} | {r['wall_time_s']:.1f} s |")
         out += ["", "| knob | " + " | ".join(f"{lv:g}" for lv in LEVELS) + " |", "|---|" + "---|" * len(LEVELS)]
         for k in res["knobs"]:
-            cells = []
-            for lv in LEVELS:
-                best = cheapest(k["rows"], "error_work", lv)
-                cells.append("n/r" if lv < u else
-                             f"{best['h']:g}: {best['error_work']:.1e}, {best['wall_time_s']:.1f} s" if best else "-")
-            out.append(f"| {k['knob']} | " + " | ".join(cells) + " |")
+            out.append(f"| {k['knob']} | " + " | ".join(level_cells(k["rows"], u, "")) + " |")
         out.append("")
     out += [f"![{f}](figures/{f})" for f in figures]
     if res["failures"]:
