@@ -17,6 +17,7 @@
 #include <functional>
 #include <random>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 namespace
@@ -595,6 +596,42 @@ namespace
       }
     // Continuous through the switch.
     EXPECT_NEAR(slow.injection_speed(t1 - 1e-9), slow.injection_speed(t1 + 1e-9), 1e-9);
+  }
+
+  TEST(Channels, TangentialInitialSJoinsTheInletsAndItsAngleIsItsTangent)
+  {
+    injection::Channels ch(12.0, 0.1);
+    const double r = 11.5, L0 = M_PI * r;
+    ch.make_tangential(r, L0);
+    // It starts at the left inlet and ends at the right one, both heading
+    // down the wall, as the wire in the channels.
+    const auto a = ch.initial_s(0.0), b = ch.initial_s(L0);
+    EXPECT_NEAR(norm(a.position - ch.inlet(injection::Side::left)), 0.0, 1e-12);
+    EXPECT_NEAR(norm(b.position - ch.inlet(injection::Side::right)), 0.0, 1e-12);
+    EXPECT_NEAR(a.angle, ch.wire_angle(), 1e-12);
+    EXPECT_NEAR(b.angle, ch.wire_angle(), 1e-12);
+    // Parametrised by arc length, with the angle its tangent's: the central
+    // difference of the position is the unit tangent, across the centre too.
+    const double e = 1e-6;
+    for (const double s : {0.3, 5.0, 0.5 * L0 - 1e-3, 0.5 * L0 + 1e-3, 25.0, L0 - 0.3})
+      {
+        const auto d = (1.0 / (2 * e)) * (ch.initial_s(s + e).position - ch.initial_s(s - e).position);
+        const double angle = ch.initial_s(s).angle;
+        EXPECT_NEAR(d.x, std::cos(angle), 1e-8) << s;
+        EXPECT_NEAR(d.y, std::sin(angle), 1e-8) << s;
+      }
+    // Passes through the centre; the curvature changes sign there.
+    EXPECT_NEAR(norm(ch.initial_s(0.5 * L0).position), 0.0, 1e-12);
+
+    // The wire still in the channels: y > 0 at the left end, y < 0 at the
+    // right end; the range between is the cavity's.
+    const std::vector<double> y{2.0, 1.0, 0.5, 0.0, -3.0, 4.0, 1.0, -0.5, -2.0};
+    const auto of = [&](int k) { return y[k]; };
+    EXPECT_EQ(injection::nodes_past_tangential_inlets(0, 9, of), (std::pair{3, 7}));
+    EXPECT_EQ(injection::nodes_past_tangential_inlets(4, 6, of), (std::pair{4, 6}));
+    const std::vector<double> all_left{1.0, 2.0, 3.0};
+    EXPECT_EQ(injection::nodes_past_tangential_inlets(0, 3, [&](int k) { return all_left[k]; }),
+              (std::pair{3, 3}));
   }
 
   TEST(InitialShape, MirrorAsymmetryZeroKeepsTheMirrorSymmetry)

@@ -177,21 +177,12 @@ namespace wirefem::discrete
 
     if (channels.is_tangential())
       {
-        // The S from the left inlet, heading down, round the half circle of
-        // radius r'/2 centred at (-r'/2, 0) to the centre, then round the
-        // one centred at (r'/2, 0) to the right inlet, arriving heading
-        // down: both arms leave their channels along the wall. Its nodes
-        // are n0 equal chords apart (a relative prestretch below
-        // lambda_0 / (2 pi r'), booked as initial energy).
-        const double rho = 0.5 * channels.inlet(Side::right).x;
-        const double ds = M_PI * 2.0 * rho / n0;
+        // The S (injection::Channels::initial_s) with its nodes n0 equal
+        // chords apart (a relative prestretch below lambda_0 / (2 pi r'),
+        // booked as initial energy).
+        const double ds = M_PI * channels.inlet(Side::right).x / n0;
         for (int k = left_origin + 1; k < right_origin; ++k)
-          {
-            const double s = (k - left_origin) * ds;
-            const double theta = s < M_PI * rho ? M_PI + s / rho : 2.0 * M_PI - s / rho;
-            const double centre = s < M_PI * rho ? -rho : rho;
-            nodes.x[k] = {centre + rho * std::cos(theta), rho * std::sin(theta)};
-          }
+          nodes.x[k] = channels.initial_s((k - left_origin) * ds).position;
       }
     else
       {

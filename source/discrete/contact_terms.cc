@@ -1,10 +1,12 @@
 #include <wirefem/contact/segment_distance.h>
 #include <wirefem/discrete/terms.h>
+#include <wirefem/injection/channels.h>
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace wirefem::discrete
 {
@@ -61,17 +63,11 @@ namespace wirefem::discrete
     trial_history.clear();
     if (law.friction)
       friction_work.begin(c);
-    // Tangential channels: the wire in them (the end nodes behind each
-    // inlet, y > 0 at the left and y < 0 at the right) is the channels',
-    // and the wall has no radial mouths.
-    int left_end = c.first, right_begin = c.last;
-    if (tangential)
-      {
-        while (left_end < c.last && c.x[left_end].y > 0.0)
-          ++left_end;
-        while (right_begin > left_end && c.x[right_begin - 1].y < 0.0)
-          --right_begin;
-      }
+    // Tangential channels: the wire still in them is the channels', and
+    // the wall has no radial mouths.
+    const auto [left_end, right_begin] =
+        tangential ? injection::nodes_past_tangential_inlets(c.first, c.last, [&](int k) { return c.x[k].y; })
+                   : std::pair{c.first, c.last};
     for (int k = left_end; k < right_begin; ++k)
       {
         const Vec2 p = c.x[k];

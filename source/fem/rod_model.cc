@@ -381,12 +381,8 @@ namespace wirefem::fem
     prescribe(0.0, u, nullptr, nullptr, first_free, last_free);
     if (channels.is_tangential())
       {
-        // The S (as the discrete model's): from the left inlet heading down
-        // round the half circle of radius rho = r'/2 centred at (-rho, 0) to
-        // the centre, then round the one centred at (rho, 0) to the right
-        // inlet, arriving heading down. The wire in a channel lies on its
-        // axis.
-        const double rho = 0.5 * channels.inlet(Side::right).x;
+        // The S (as the discrete model's: injection::Channels::initial_s).
+        // The wire in a channel lies on its axis.
         for (int k = first_free; k < last_free; ++k)
           {
             const double xi = node_S[k] - a_left;
@@ -395,17 +391,11 @@ namespace wirefem::fem
             if (xi <= 0.0 || xi >= L0)
               pos = xi <= 0.0 ? channels.position(Side::left, xi, 0.0)
                               : channels.position(Side::right, L0 - xi, 0.0);
-            else if (xi < M_PI * rho)
-              {
-                const double phi = M_PI + xi / rho;
-                pos = {-rho + rho * std::cos(phi), rho * std::sin(phi)};
-                angle += xi / rho;
-              }
             else
               {
-                const double phi = 2.0 * M_PI - xi / rho;
-                pos = {rho + rho * std::cos(phi), rho * std::sin(phi)};
-                angle += 2.0 * M_PI - xi / rho;
+                const auto p = channels.initial_s(xi);
+                pos = p.position;
+                angle = p.angle;
               }
             u[3 * k] = pos.x;
             u[3 * k + 1] = pos.y;
@@ -646,23 +636,21 @@ namespace wirefem::fem
     // Tangential channels: the wire in them (the end nodes behind each
     // inlet, y > 0 at the left and y < 0 at the right) is the channels',
     // and the wall is a closed circle (wall_settings.mouths).
-    int wall_first = first, wall_last = last;
-    if (channels.is_tangential())
-      {
-        while (wall_first < last && u1[3 * wall_first + 1] > 0.0)
-          ++wall_first;
-        while (wall_last > wall_first && u1[3 * (wall_last - 1) + 1] < 0.0)
-          --wall_last;
-      }
     if (scene.contact.wall_contact)
-      for (int k = wall_first; k < wall_last; ++k)
-        if (wall_contact(radius, wall_settings, node_weight(k), position(u1, k), vel0(k), c_vel, cc,
-                         c_force > 0 ? 1.0 / c_force : 1.0))
-          {
-            add_contact({k});
-            e.node_contact_force[k] += cc.normal_force;
-            ++e.n_wall;
-          }
+      {
+        const auto [wall_first, wall_last] =
+            channels.is_tangential()
+                ? injection::nodes_past_tangential_inlets(first, last, [&](int k) { return u1[3 * k + 1]; })
+                : std::pair{first, last};
+        for (int k = wall_first; k < wall_last; ++k)
+          if (wall_contact(radius, wall_settings, node_weight(k), position(u1, k), vel0(k), c_vel, cc,
+                           c_force > 0 ? 1.0 / c_force : 1.0))
+            {
+              add_contact({k});
+              e.node_contact_force[k] += cc.normal_force;
+              ++e.n_wall;
+            }
+      }
     // The channel walls (as ChannelTerm of the discrete model): a lateral
     // spring k_c per length on the part of the wire inside a channel, energy
     // (k_c/2) times the integral of y^2 over the part of each element with

@@ -24,6 +24,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace wirefem::injection
 {
@@ -60,6 +61,28 @@ namespace wirefem::injection
     /// Angle of the wire's tangent in both channels, taken along the wire
     /// from the left end to the right: 0 (radial) or -pi/2 (tangential).
     double wire_angle() const { return tangential ? -0.5 * M_PI : 0.0; }
+
+    /// A point of the tangential channels' initial S, at arc length s
+    /// (0 <= s <= pi r') from the left inlet along its centreline, and the
+    /// angle of the wire's tangent there.
+    struct CurvePoint
+    {
+      geometry::Vec2 position;
+      double angle;
+    };
+    /// The S from the left inlet, heading down, round the half circle of
+    /// radius rho = r'/2 centred at (-rho, 0) to the centre, then round the
+    /// one centred at (rho, 0) to the right inlet, arriving heading down:
+    /// both arms leave their channels along the wall.
+    CurvePoint initial_s(double s) const
+    {
+      const double rho = 0.5 * inlet_radius;
+      const bool first_half = s < M_PI * rho;
+      const double theta = first_half ? M_PI + s / rho : 2.0 * M_PI - s / rho;
+      const double centre = first_half ? -rho : rho;
+      return {{centre + rho * std::cos(theta), rho * std::sin(theta)},
+              wire_angle() + (first_half ? s / rho : 2.0 * M_PI - s / rho)};
+    }
 
     geometry::Vec2 inlet(Side s) const { return {s == Side::left ? -inlet_radius : inlet_radius, 0.0}; }
     /// Unit vector along which the channel pushes, into the cavity.
@@ -127,4 +150,17 @@ namespace wirefem::injection
     double second_speed; ///< height of the second ramp (0 without a slow start)
     double second_start; ///< its start (infinite without a slow start)
   };
+  /// Tangential channels: the wire's end nodes behind each inlet belong to
+  /// the channels (their walls guide them), those of the left channel with
+  /// y > 0 and of the right one with y < 0. Given the nodes [first, last)
+  /// and their y(k), returns the range [b, e) of nodes in the cavity.
+  template <typename YOfNode>
+  std::pair<int, int> nodes_past_tangential_inlets(int first, int last, const YOfNode &y)
+  {
+    while (first < last && y(first) > 0.0)
+      ++first;
+    while (last > first && y(last - 1) < 0.0)
+      --last;
+    return {first, last};
+  }
 } // namespace wirefem::injection
