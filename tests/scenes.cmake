@@ -160,3 +160,19 @@ if(MPIRUN)
   set_tests_properties(sweep.mpi_resume PROPERTIES LABELS regression PROCESSORS 2
                        PASS_REGULAR_EXPRESSION "PASS:" FAIL_REGULAR_EXPRESSION "FAIL:")
 endif()
+
+# scripts/morphology-scan.sh on the quick scene: both cases of
+# tests/morphology_cases.txt run (the second with its two overrides) and
+# get a row of the table.
+add_test(NAME scripts.morphology_scan
+         COMMAND ${CMAKE_COMMAND} -E env WIREFEM=${WIREFEM_EXE} OUT=${SCENE_OUT}/morphology_scan JOBS=2
+                 bash ${CMAKE_SOURCE_DIR}/scripts/morphology-scan.sh ${CMAKE_SOURCE_DIR}/prm/quick.prm
+                 ${CMAKE_CURRENT_SOURCE_DIR}/morphology_cases.txt)
+set_tests_properties(scripts.morphology_scan PROPERTIES LABELS regression PROCESSORS 2
+                     PASS_REGULAR_EXPRESSION "\\| default \\| 0\\.[0-9]+ \\| (yes|no) \\| [0-9.]+ \\|[^\n]*\n\\| elastic, slower \\| 0\\.[0-9]+ \\| (yes|no) \\| [0-9.]+ \\|"
+                     FAIL_REGULAR_EXPRESSION "no summary")
+# ... and its overrides reached the run: plasticity is active in the default
+# case only.
+add_test(NAME scripts.morphology_scan_overrides
+         COMMAND bash -c "grep -q '\"plasticity\"' '${SCENE_OUT}/morphology_scan/default/summary.json' && ! grep -q '\"plasticity\"' '${SCENE_OUT}/morphology_scan/elastic__slower/summary.json'")
+set_tests_properties(scripts.morphology_scan_overrides PROPERTIES LABELS regression DEPENDS scripts.morphology_scan)
