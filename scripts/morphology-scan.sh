@@ -17,10 +17,13 @@ out=${OUT:-output/morphology-scan}
 jobs=${JOBS:-2}
 mkdir -p "$out"
 
+case_dir() { printf '%s/%s' "$out" "$(printf %s "$1" | tr -c 'a-zA-Z0-9_.' '_')"; }
+case_lines() { grep -v '^[[:space:]]*\(#\|$\)' "$cases"; }
+
 run_case() { # name, overrides; the scene's extra arguments are in extra_q
   local name=$1 settings=$2
-  local dir="$out/$(printf %s "$name" | tr -c 'a-zA-Z0-9_.' '_')"
-  local extra=() s
+  local dir extra=() s
+  dir=$(case_dir "$name")
   eval "extra=($extra_q)"
   IFS=';' read -ra list <<< "$settings"
   for s in "${list[@]}"; do
@@ -32,17 +35,17 @@ run_case() { # name, overrides; the scene's extra arguments are in extra_q
 }
 extra_q=""
 [ $# -gt 0 ] && extra_q=$(printf '%q ' "$@")
-export -f run_case
+export -f run_case case_dir
 export exe scene out extra_q
 
-grep -v '^[[:space:]]*\(#\|$\)' "$cases" | while IFS='|' read -r name settings; do
+case_lines | while IFS='|' read -r name settings; do
   printf '%s\0%s\0' "$name" "$settings"
 done | xargs -0 -n 2 -P "$jobs" bash -c 'run_case "$@"' _
 
 printf "| case | phi | jammed | A/B | min A/B (phi >= 0.1) | symmetry | loops | balance | wall (s) |\n"
 printf "|---|---|---|---|---|---|---|---|---|\n"
-grep -v '^[[:space:]]*\(#\|$\)' "$cases" | while IFS='|' read -r name _; do
-  dir="$out/$(printf %s "$name" | tr -c 'a-zA-Z0-9_.' '_')"
+case_lines | while IFS='|' read -r name _; do
+  dir=$(case_dir "$name")
   python3 - "$dir" "$name" <<'PY'
 import csv, json, sys
 d, name = sys.argv[1], sys.argv[2]
