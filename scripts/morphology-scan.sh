@@ -32,6 +32,7 @@ run_case() { # name, overrides; the scene's extra arguments are in extra_q
   done
   "$exe" "$scene" "${extra[@]}" --set Output/Directory="$dir" --set Output/Progress=off \
     --set "Output/VTU interval=0" > "$dir.log" 2>&1
+  echo $? > "$dir.rc" # the table trusts only the output of this run
 }
 extra_q=""
 [ $# -gt 0 ] && extra_q=$(printf '%q ' "$@")
@@ -50,6 +51,8 @@ case_lines | while IFS='|' read -r name _; do
 import csv, json, sys
 d, name = sys.argv[1], sys.argv[2]
 try:
+    if open(d + ".rc").read().strip() != "0":
+        raise ValueError("the run failed")
     s = json.load(open(d + "/summary.json"))
     rows = list(csv.DictReader(open(d + "/series.csv")))
 except (OSError, ValueError):
