@@ -2,7 +2,9 @@
 # Runs a scene once per case of a list of overrides, JOBS at a time, and prints
 # one Markdown table row per case: phi at the end, jammed, the paper's
 # curvature ratio A/B at the end and its smallest value from phi = 0.1 on
-# (with that phi), the mirror-symmetry score, loops, energy balance, wall time.
+# (with that phi), the share of the wire inside the inner disc and the ratio of
+# squared curvature per length inside to outside at the end (A/B = f/(1-f)
+# times that ratio), the mirror-symmetry score, loops, energy balance, wall time.
 #   scripts/morphology-scan.sh SCENE.prm CASES [extra --set arguments...]
 # CASES has one case a line, "name|Key=value;Key=value" ('#' starts a comment;
 # an empty override list runs the scene as it is). Example:
@@ -43,8 +45,8 @@ case_lines | while IFS='|' read -r name settings; do
   printf '%s\0%s\0' "$name" "$settings"
 done | xargs -0 -n 2 -P "$jobs" bash -c 'run_case "$@"' _
 
-printf "| case | phi | jammed | A/B | min A/B (phi >= 0.1) | symmetry | loops | balance | wall (s) |\n"
-printf "|---|---|---|---|---|---|---|---|---|\n"
+printf "| case | phi | jammed | A/B | min A/B (phi >= 0.1) | wire inside | curvature density ratio | symmetry | loops | balance | wall (s) |\n"
+printf "|---|---|---|---|---|---|---|---|---|---|---|\n"
 case_lines | while IFS='|' read -r name _; do
   dir=$(case_dir "$name")
   python3 - "$dir" "$name" <<'PY'
@@ -56,10 +58,11 @@ try:
     s = json.load(open(d + "/summary.json"))
     rows = list(csv.DictReader(open(d + "/series.csv")))
 except (OSError, ValueError):
-    print(f"| {name} | no summary: see {d}.log | | | | | | | |"); sys.exit()
+    print(f"| {name} | no summary: see {d}.log | | | | | | | | | |"); sys.exit()
+num = lambda x: "inf" if x is None else f"{x:.2f}"  # JSON has no infinity: null
 late = [(float(r["curvature_ratio"]), float(r["phi"])) for r in rows if float(r["phi"]) >= 0.1]
 low = f"{min(late)[0]:.2f} at {min(late)[1]:.2f}" if late else "-"
-print(f"| {name} | {s['phi_final']:.3f} | {'yes' if s['jammed'] else 'no'} | {s['curvature_ratio']:.2f} | {low} | "
-      f"{s['symmetry']:.2f} | {s['loops']} | {s['energy']['balance_error']:.1e} | {s['wall_time_s']:.0f} |")
+print(f"| {name} | {s['phi_final']:.3f} | {'yes' if s['jammed'] else 'no'} | {num(s['curvature_ratio'])} | {low} | "
+      f"{s['inner_wire_fraction']:.2f} | {num(s['curvature_density_ratio'])} | {s['symmetry']:.2f} | {s['loops']} | {s['energy']['balance_error']:.1e} | {s['wall_time_s']:.0f} |")
 PY
 done

@@ -254,4 +254,124 @@ namespace
     EXPECT_THROW(analysis::read_shape_csv(temporary_file("one.csv", "0,0\n"), {}), analysis::ShapeError);
     EXPECT_THROW(analysis::read_shape(::testing::TempDir() + "no-such-file.csv", {}), analysis::ShapeError);
   }
+
+  // Morphology (SPEC 7): the curvature ratio A/B of the paper's footnote, its
+  // split into where the wire is and how curved it is there, the mirror
+  // symmetry and the spiral's winding, on shapes whose values are known.
+
+  /// A wire state with the given centreline and curvature, in a cavity of radius r.
+  analysis::WireState shape(const std::vector<Vec2> &points, const std::vector<double> &curvature,
+                            const double r)
+  {
+    analysis::WireState w;
+    w.cavity_radius = r;
+    w.points = points;
+    w.curvature = curvature;
+    return w;
+  }
+
+  /// The straight wire across a cavity of radius 50 through its centre, one
+  /// point per d (x = -50, ..., 50), curved `inside` within the inner disc of
+  /// radius 50/sqrt(2) (x = -35..35: 71 points) and `outside` beyond it.
+  analysis::WireState split_straight_wire(const double inside, const double outside)
+  {
+    const double r = 50.0;
+    std::vector<Vec2> p;
+    std::vector<double> kappa;
+    for (int k = 0; k <= 100; ++k)
+      {
+        p.push_back({k - r, 0.0});
+        kappa.push_back(std::abs(k - r) < r / std::sqrt(2.0) ? inside : outside);
+      }
+    return shape(p, kappa, r);
+  }
+
+  TEST(Morphology, CurvatureRatioOfTheEqualAreaDiscAndRing)
+  {
+    // Each point stands for the length d around it, the two end points for
+    // none: 71 d inside, 28 d outside.
+    const auto m = analysis::classify(split_straight_wire(0.1, 0.3));
+    const double a = 0.01 * 71.0, b = 0.09 * 28.0;
+    EXPECT_NEAR(m.curvature_ratio, a / b, 1e-12);
+    EXPECT_EQ(m.phase, "classic"); // A/B = 0.28 < 0.5
+    EXPECT_NEAR(m.inner_wire_fraction, 71.0 / 99.0, 1e-12);
+    EXPECT_NEAR(m.curvature_density_ratio, 0.01 / 0.09, 1e-12);
+    const double f = m.inner_wire_fraction;
+    EXPECT_NEAR(m.curvature_ratio, f / (1.0 - f) * m.curvature_density_ratio, 1e-12);
+
+    const auto swapped = analysis::classify(split_straight_wire(0.3, 0.1));
+    EXPECT_NEAR(swapped.curvature_ratio, 0.09 * 71.0 / (0.01 * 28.0), 1e-9);
+    EXPECT_EQ(swapped.phase, "plastic");
+    // Evenly curved, A/B is the ratio of the lengths alone.
+    const auto even = analysis::classify(split_straight_wire(0.2, 0.2));
+    EXPECT_NEAR(even.curvature_ratio, 71.0 / 28.0, 1e-12);
+    EXPECT_NEAR(even.curvature_density_ratio, 1.0, 1e-12);
+    // No curvature outside: A/B is unbounded; none at all: 0.
+    EXPECT_TRUE(std::isinf(analysis::classify(split_straight_wire(0.2, 0.0)).curvature_ratio));
+    EXPECT_EQ(analysis::classify(split_straight_wire(0.0, 0.0)).curvature_ratio, 0.0);
+  }
+
+  TEST(Morphology, MirrorSymmetryScore)
+  {
+    // y = h cos(pi x / 2r) is mirror-symmetric about the y axis: score 1.
+    // y = h sin(pi x / r) is point-symmetric: the mirrored left half lies 2|y|
+    // from the right half, a mean of 4h/pi, so the score is 1 - 4h/(pi r).
+    const double r = 50.0, h = 2.0;
+    std::vector<Vec2> even, odd;
+    for (int k = 0; k <= 100; ++k)
+      {
+        const double x = k - r;
+        even.push_back({x, h * std::cos(M_PI * x / (2.0 * r))});
+        odd.push_back({x, h * std::sin(M_PI * x / r)});
+      }
+    const std::vector<double> none(101, 0.0);
+    EXPECT_NEAR(analysis::classify(shape(even, none, r)).symmetry, 1.0, 1e-12);
+    EXPECT_NEAR(analysis::classify(shape(odd, none, r)).symmetry, 1.0 - 4.0 * h / (M_PI * r), 1e-3);
+    // Displaced by a whole radius, the halves share nothing: score 0.
+    std::vector<Vec2> far = even;
+    for (std::size_t k = 51; k < far.size(); ++k)
+      far[k].y += 2.0 * r;
+    EXPECT_EQ(analysis::classify(shape(far, none, r)).symmetry, 0.0);
+  }
+
+  TEST(Morphology, SpiralWhenBothHalvesWindTheSameWay)
+  {
+    // Each half winds 1.5 turns clockwise inwards from its inlet, and the
+    // two meet on a straight piece through the centre (mid-wire): a double
+    // spiral, symmetric under a half turn. Mirrored instead, the right half
+    // winds the other way round: the classic/plastic criterion decides.
+    const double r = 50.0, turns = 1.5;
+    const int n_arm = 600, n_join = 10;
+    const auto arm = [&](const int i, const double start_angle) {
+      const double t = static_cast<double>(i) / n_arm;
+      const double rho = r * (1.0 - 0.9 * t), theta = start_angle - 2.0 * M_PI * turns * t;
+      return Vec2{rho * std::cos(theta), rho * std::sin(theta)};
+    };
+    for (const bool mirrored : {false, true})
+      {
+        std::vector<Vec2> p;
+        for (int i = 0; i <= n_arm; ++i)
+          p.push_back(arm(i, M_PI));
+        // From (0.1 r, 0) through the centre to (-0.1 r, 0), the centre at mid-wire.
+        for (int i = 1; i < 2 * n_join; ++i)
+          p.push_back({0.1 * r * (1.0 - static_cast<double>(i) / n_join), 0.0});
+        for (int i = n_arm; i >= 0; --i)
+          {
+            const Vec2 q = mirrored ? Vec2{-arm(i, M_PI).x, arm(i, M_PI).y} : arm(i, 0.0);
+            p.push_back(q);
+          }
+        ASSERT_EQ(p.size() % 2, 1u);
+        EXPECT_EQ(norm(p[p.size() / 2]), 0.0);
+        const auto m = analysis::classify(shape(p, std::vector<double>(p.size(), 0.02), r));
+        EXPECT_NEAR(m.winding_left, -turns, 1e-9);
+        EXPECT_NEAR(m.winding_right, mirrored ? turns : -turns, 1e-9);
+        if (mirrored)
+          {
+            EXPECT_NE(m.phase, "spiral");
+            EXPECT_NEAR(m.symmetry, 1.0, 1e-12);
+          }
+        else
+          EXPECT_EQ(m.phase, "spiral");
+      }
+  }
 } // namespace

@@ -284,4 +284,23 @@ namespace
     EXPECT_EQ(lines[2].substr(0, lines[2].find(',')), "1.2345679");
     EXPECT_EQ(lines[3], "2,4");
   }
+
+  TEST(SeriesWriter, ResumeRefusesAFileWithOtherColumnsAndLeavesIt)
+  {
+    // A run started by a version that wrote other columns: its rows must
+    // not end up under this version's header, nor be lost.
+    const std::string file = ::testing::TempDir() + "series_resume_columns.csv";
+    {
+      wirefem::io::SeriesWriter w(file, {"time", "x"});
+      w.write_row({1.0, 1.0});
+    }
+    EXPECT_THROW(wirefem::io::SeriesWriter(file, {"time", "x", "y"}, 1.0), std::runtime_error);
+    std::ifstream in(file);
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);)
+      lines.push_back(l);
+    ASSERT_EQ(lines.size(), 2u);
+    EXPECT_EQ(lines[0], "time,x");
+    EXPECT_EQ(lines[1], "1,1");
+  }
 } // namespace

@@ -41,14 +41,19 @@ namespace wirefem::analysis
         return m;
       }
     const double r_inner = wire.cavity_radius / std::sqrt(2.0);
-    double a = 0.0, b = 0.0;
+    double a = 0.0, b = 0.0, l_in = 0.0, l_out = 0.0;
     for (int k = 0; k < n; ++k)
       {
         const double kappa = k < static_cast<int>(wire.curvature.size()) ? wire.curvature[k] : 0.0;
         const double ds = (k > 0 && k < n - 1) ? 0.5 * (norm(p[k + 1] - p[k]) + norm(p[k] - p[k - 1])) : 0.0;
-        (norm(p[k]) < r_inner ? a : b) += kappa * kappa * ds;
+        const bool inside = norm(p[k]) < r_inner;
+        (inside ? a : b) += kappa * kappa * ds;
+        (inside ? l_in : l_out) += ds;
       }
-    m.curvature_ratio = b > 0.0 ? a / b : (a > 0.0 ? INFINITY : 0.0);
+    const auto ratio = [](const double x, const double y) { return y > 0.0 ? x / y : (x > 0.0 ? INFINITY : 0.0); };
+    m.curvature_ratio = ratio(a, b);
+    m.inner_wire_fraction = l_in + l_out > 0.0 ? l_in / (l_in + l_out) : 0.0;
+    m.curvature_density_ratio = ratio(l_in > 0.0 ? a / l_in : 0.0, l_out > 0.0 ? b / l_out : 0.0);
 
     // Mirror symmetry about the y axis: the point at arc length s from the
     // left inlet, mirrored, against the point at s from the right inlet.

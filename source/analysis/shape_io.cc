@@ -239,6 +239,8 @@ namespace wirefem::analysis
         j["morphology"] = m.phase;
         j["symmetry"] = m.symmetry;
         j["curvature_ratio"] = m.curvature_ratio;
+        j["inner_wire_fraction"] = m.inner_wire_fraction;
+        j["curvature_density_ratio"] = m.curvature_density_ratio;
         j["winding_left"] = m.winding_left;
         j["winding_right"] = m.winding_right;
       }

@@ -24,6 +24,13 @@ namespace wirefem::io
         std::ifstream in(filename);
         std::string line;
         std::getline(in, line); // header
+        // Rows of another column set would end up under this header.
+        std::string header;
+        for (std::size_t i = 0; i < columns.size(); ++i)
+          header += (i ? "," : "") + columns[i];
+        if (in && line != header)
+          throw std::runtime_error(filename + ": its columns are not this version's (" + header +
+                                   "); resume the run with the version that started it");
         while (std::getline(in, line))
           if (!line.empty() && std::stod(line.substr(0, line.find(','))) <= resume_time + rounding)
             kept.push_back(line);

@@ -79,7 +79,8 @@ namespace wirefem::simulation
                                               "energy_balance_error",
                                               "max_penetration",
                                               "symmetry",
-                                              "curvature_ratio"};
+                                              "curvature_ratio",
+                                              "inner_wire_fraction"};
 
     // Set by SIGINT/SIGTERM; the loop stops at the end of the current step.
     volatile std::sig_atomic_t interrupt_requested = 0;
@@ -285,7 +286,8 @@ namespace wirefem::simulation
                           e.balance_error(),
                           s.max_penetration,
                           morph.symmetry,
-                          morph.curvature_ratio});
+                          morph.curvature_ratio,
+                          morph.inner_wire_fraction});
       if (force_vtu || (scene.output.vtu_interval > 0 && w.injected_length >= next_vtu))
         {
           write_vtu(w);
@@ -422,6 +424,8 @@ namespace wirefem::simulation
     j["morphology"] = result.morphology.empty() ? "plastic" : result.morphology;
     j["symmetry"] = result.symmetry;
     j["curvature_ratio"] = result.shape.curvature_ratio;
+    j["inner_wire_fraction"] = result.shape.inner_wire_fraction;
+    j["curvature_density_ratio"] = result.shape.curvature_density_ratio;
     j["winding_left"] = result.shape.winding_left;
     j["winding_right"] = result.shape.winding_right;
     j["steps"] = result.steps;

@@ -31,6 +31,13 @@ namespace wirefem::analysis
     std::string phase; ///< spiral | classic | plastic
     double curvature_ratio =
         0.0;               ///< A/B: squared curvature in the inner disc over the outer ring (equal areas)
+    /// A/B splits into where the wire is and how curved it is there:
+    /// A/B = f/(1 - f) * (A/L_in)/(B/L_out), with f = L_in/(L_in + L_out) the
+    /// share of the wire's length inside the inner disc (0.5 for wire spread
+    /// evenly over the cavity) and the second factor the ratio of squared
+    /// curvature per length inside to that outside.
+    double inner_wire_fraction = 0.0;
+    double curvature_density_ratio = 0.0; ///< (A/L_in)/(B/L_out)
     double symmetry = 0.0; ///< 1 = mirror-symmetric about the axis perpendicular to the channels, 0 = none
     double winding_left =
         0.0; ///< polar angle swept around the centre from the left inlet to mid-wire (turns)
