@@ -96,6 +96,14 @@ foreach(study "cantilever;1800" "buckling;3600" "plastic_cycles;3600" "capstan;3
   set_tests_properties(validation.${name} PROPERTIES LABELS validation TIMEOUT ${timeout})
 endforeach()
 
+# scripts/plot-morphology.py on the quick scene's series: A/B and its split
+# at the end, and the figure.
+add_test(NAME scripts.plot_morphology
+         COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/scripts/plot-morphology.py ${SCENE_OUT}/quick_morphology.png
+                 ${SCENE_OUT}/quick=quick)
+set_tests_properties(scripts.plot_morphology PROPERTIES LABELS regression DEPENDS scene.quick_runs
+                     PASS_REGULAR_EXPRESSION "quick: phi 0\\.[0-9]+  A/B [0-9.]+  inside 0\\.[0-9]+  density ratio [0-9.]+")
+
 # Hard cases: each runs to its end (jamming or the maximum density) without a
 # numerical stop. summary.json must say failed = false (checked by the script).
 foreach(case "mu5;Contact/Friction/Static coefficient=5"
