@@ -327,7 +327,7 @@ namespace
     const std::vector<double> none(101, 0.0);
     EXPECT_NEAR(analysis::classify(shape(even, none, r)).symmetry, 1.0, 1e-12);
     EXPECT_NEAR(analysis::classify(shape(odd, none, r)).symmetry, 1.0 - 4.0 * h / (M_PI * r), 1e-3);
-    // Displaced by a whole radius, the halves share nothing: score 0.
+    // Displaced by a diameter, the halves lie farther apart than r: score 0 (clamped).
     std::vector<Vec2> far = even;
     for (std::size_t k = 51; k < far.size(); ++k)
       far[k].y += 2.0 * r;

@@ -294,7 +294,7 @@ namespace
       wirefem::io::SeriesWriter w(file, {"time", "x"});
       w.write_row({1.0, 1.0});
     }
-    EXPECT_THROW(wirefem::io::SeriesWriter(file, {"time", "x", "y"}, 1.0), std::runtime_error);
+    EXPECT_THROW(wirefem::io::SeriesWriter(file, {"time", "x", "y"}, 1.0), wirefem::io::SeriesColumnsError);
     std::ifstream in(file);
     std::vector<std::string> lines;
     for (std::string l; std::getline(in, l);)

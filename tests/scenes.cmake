@@ -102,7 +102,8 @@ add_test(NAME scripts.plot_morphology
          COMMAND ${WIREFEM_PYTHON} ${CMAKE_SOURCE_DIR}/scripts/plot-morphology.py ${SCENE_OUT}/quick_morphology.png
                  ${SCENE_OUT}/quick=quick)
 set_tests_properties(scripts.plot_morphology PROPERTIES LABELS regression DEPENDS scene.quick_runs
-                     PASS_REGULAR_EXPRESSION "quick: phi 0\\.[0-9]+  A/B [0-9.]+  inside 0\\.[0-9]+  density ratio [0-9.]+")
+                     PASS_REGULAR_EXPRESSION "quick: phi 0\\.[0-9]+  A/B [0-9.]+  inside 0\\.[0-9]+  density ratio [0-9.]+"
+                     FAIL_REGULAR_EXPRESSION "Traceback")
 
 # Hard cases: each runs to its end (jamming or the maximum density) without a
 # numerical stop. summary.json must say failed = false (checked by the script).

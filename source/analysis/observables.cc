@@ -55,8 +55,9 @@ namespace wirefem::analysis
     m.inner_wire_fraction = l_in + l_out > 0.0 ? l_in / (l_in + l_out) : 0.0;
     m.curvature_density_ratio = ratio(l_in > 0.0 ? a / l_in : 0.0, l_out > 0.0 ? b / l_out : 0.0);
 
-    // Mirror symmetry about the y axis: the point at arc length s from the
-    // left inlet, mirrored, against the point at s from the right inlet.
+    // Mirror symmetry about the y axis: the k-th point from the left inlet,
+    // mirrored, against the k-th point from the right inlet (the models'
+    // points are equally spaced along the wire).
     double dev = 0.0;
     const int half = n / 2;
     for (int k = 0; k < half; ++k)

@@ -248,8 +248,9 @@ namespace wirefem::analysis
       {
         j["cavity_radius"] = nullptr;
         j["phi"] = nullptr;
-        j["morphology"] = nullptr;
-        j["symmetry"] = nullptr;
+        for (const char *key : {"morphology", "symmetry", "curvature_ratio", "inner_wire_fraction",
+                                "curvature_density_ratio", "winding_left", "winding_right"})
+          j[key] = nullptr;
       }
     return j.dump(2);
   }

@@ -29,7 +29,7 @@ namespace wirefem::io
         for (std::size_t i = 0; i < columns.size(); ++i)
           header += (i ? "," : "") + columns[i];
         if (in && line != header)
-          throw std::runtime_error(filename + ": its columns are not this version's (" + header +
+          throw SeriesColumnsError(filename + ": its columns (" + line + ") are not this version's (" + header +
                                    "); resume the run with the version that started it");
         while (std::getline(in, line))
           if (!line.empty() && std::stod(line.substr(0, line.find(','))) <= resume_time + rounding)

@@ -226,7 +226,16 @@ namespace wirefem::simulation
     if (options.resume)
       std::cout << fmt::format("resuming at t = {:.6g}, L = {:.6g}, step {}\n", model.time(),
                                model.injected_length(), model.n_steps());
-    io::SeriesWriter series((dir / "series.csv").string(), columns, options.resume ? model.time() : -1.0);
+    auto series = [&] {
+      try
+        {
+          return io::SeriesWriter((dir / "series.csv").string(), columns, options.resume ? model.time() : -1.0);
+        }
+      catch (const io::SeriesColumnsError &e)
+        {
+          throw scene::InputError(std::string("cannot resume: ") + e.what());
+        }
+    }();
     io::Progress progress(scene.output.progress);
     // Rate and ETA count what this process did (a resumed run starts late).
     const unsigned long steps_at_start = model.n_steps();

@@ -2,11 +2,19 @@
 #pragma once
 
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace wirefem::io
 {
+  /// Resuming onto a series.csv whose header is not this writer's columns.
+  class SeriesColumnsError : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
+
   class SeriesWriter
   {
   public:
