@@ -13,6 +13,9 @@ namespace wirefem::io
                              const double resume_time)
     : n_columns(columns.size())
   {
+    std::string header;
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      header += (i ? "," : "") + columns[i];
     std::vector<std::string> kept;
     if (resume_time >= 0.0)
       {
@@ -25,9 +28,6 @@ namespace wirefem::io
         std::string line;
         std::getline(in, line); // header
         // Rows of another column set would end up under this header.
-        std::string header;
-        for (std::size_t i = 0; i < columns.size(); ++i)
-          header += (i ? "," : "") + columns[i];
         if (in && line != header)
           throw SeriesColumnsError(filename + ": its columns (" + line + ") are not this version's (" + header +
                                    "); resume the run with the version that started it");
@@ -38,9 +38,7 @@ namespace wirefem::io
     out.open(filename);
     if (!out)
       throw std::runtime_error("cannot write " + filename);
-    for (std::size_t i = 0; i < columns.size(); ++i)
-      out << (i ? "," : "") << columns[i];
-    out << '\n';
+    out << header << '\n';
     for (const auto &line : kept)
       out << line << '\n';
     out << std::setprecision(10);
