@@ -50,7 +50,9 @@ namespace wirefem::analysis
         (inside ? a : b) += kappa * kappa * ds;
         (inside ? l_in : l_out) += ds;
       }
-    const auto ratio = [](const double x, const double y) { return y > 0.0 ? x / y : (x > 0.0 ? INFINITY : 0.0); };
+    const auto ratio = [](const double x, const double y) {
+      return y > 0.0 ? x / y : (x > 0.0 ? INFINITY : 0.0);
+    };
     m.curvature_ratio = ratio(a, b);
     m.inner_wire_fraction = l_in + l_out > 0.0 ? l_in / (l_in + l_out) : 0.0;
     m.curvature_density_ratio = ratio(l_in > 0.0 ? a / l_in : 0.0, l_out > 0.0 ? b / l_out : 0.0);

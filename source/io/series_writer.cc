@@ -29,8 +29,8 @@ namespace wirefem::io
         std::getline(in, line); // header
         // Rows of another column set would end up under this header.
         if (in && line != header)
-          throw SeriesColumnsError(filename + ": its columns (" + line + ") are not this version's (" + header +
-                                   "); resume the run with the version that started it");
+          throw SeriesColumnsError(filename + ": its columns (" + line + ") are not this version's (" +
+                                   header + "); resume the run with the version that started it");
         while (std::getline(in, line))
           if (!line.empty() && std::stod(line.substr(0, line.find(','))) <= resume_time + rounding)
             kept.push_back(line);

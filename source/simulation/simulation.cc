@@ -229,7 +229,8 @@ namespace wirefem::simulation
     auto series = [&] {
       try
         {
-          return io::SeriesWriter((dir / "series.csv").string(), columns, options.resume ? model.time() : -1.0);
+          return io::SeriesWriter((dir / "series.csv").string(), columns,
+                                  options.resume ? model.time() : -1.0);
         }
       catch (const io::SeriesColumnsError &e)
         {

@@ -30,7 +30,7 @@ namespace wirefem::analysis
   {
     std::string phase; ///< spiral | classic | plastic
     double curvature_ratio =
-        0.0;               ///< A/B: squared curvature in the inner disc over the outer ring (equal areas)
+        0.0; ///< A/B: squared curvature in the inner disc over the outer ring (equal areas)
     /// A/B splits into where the wire is and how curved it is there:
     /// A/B = f/(1 - f) * (A/L_in)/(B/L_out), with f = L_in/(L_in + L_out) the
     /// share of the wire's length inside the inner disc (0.5 for wire spread
