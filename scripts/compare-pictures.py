@@ -53,10 +53,12 @@ def main():
             # loop counter; the caption below is from `wirefem analyze`.
             picture = picture.crop((0, 0, w, int(h * 0.955))).resize((SIZE, int(SIZE * 0.955)))
             img.paste(picture, (70 + c * SIZE, y0))
+            # JSON has no infinity: A/B without curvature in the ring is null.
+            ratio = "inf" if shape["curvature_ratio"] is None else f"{shape['curvature_ratio']:.2f}"
             draw.text((80 + c * SIZE, y0 + int(SIZE * 0.955) + 2),
                       f"{title or summary.get('scene', '')}  phi={summary['phi_final']:.3f}  "
                       f"loops={shape['loops']}  {shape['morphology']}\n"
-                      f"A/B={shape['curvature_ratio']:.2f}  symmetry={shape['symmetry']:.2f}", fill="black")
+                      f"A/B={ratio}  symmetry={shape['symmetry']:.2f}", fill="black")
     img.save(out, optimize=True)
     print(out)
 
