@@ -237,19 +237,13 @@ namespace wirefem::analysis
         j["cavity_radius"] = wire.cavity_radius;
         j["phi"] = packing_density(wire.injected_length, wire.cavity_radius);
         j["morphology"] = m.phase;
-        j["symmetry"] = m.symmetry;
-        j["curvature_ratio"] = m.curvature_ratio;
-        j["inner_wire_fraction"] = m.inner_wire_fraction;
-        j["curvature_density_ratio"] = m.curvature_density_ratio;
-        j["winding_left"] = m.winding_left;
-        j["winding_right"] = m.winding_right;
+        for (const auto &[key, value] : morphology_numbers(m))
+          j[key] = value;
       }
-    else
+    else // no morphology without a cavity: every one of its keys is null
       {
-        j["cavity_radius"] = nullptr;
-        j["phi"] = nullptr;
-        for (const char *key : {"morphology", "symmetry", "curvature_ratio", "inner_wire_fraction",
-                                "curvature_density_ratio", "winding_left", "winding_right"})
+        j["cavity_radius"] = j["phi"] = j["morphology"] = nullptr;
+        for (const auto &[key, value] : morphology_numbers(Morphology{}))
           j[key] = nullptr;
       }
     return j.dump(2);

@@ -432,12 +432,8 @@ namespace wirefem::simulation
     j["stop_reason"] = result.stop_reason;
     j["loops"] = result.loops;
     j["morphology"] = result.morphology.empty() ? "plastic" : result.morphology;
-    j["symmetry"] = result.symmetry;
-    j["curvature_ratio"] = result.shape.curvature_ratio;
-    j["inner_wire_fraction"] = result.shape.inner_wire_fraction;
-    j["curvature_density_ratio"] = result.shape.curvature_density_ratio;
-    j["winding_left"] = result.shape.winding_left;
-    j["winding_right"] = result.shape.winding_right;
+    for (const auto &[key, value] : analysis::morphology_numbers(result.shape))
+      j[key] = value;
     j["steps"] = result.steps;
     j["time"] = model.time();
     j["time_step"] = model.time_step();

@@ -3,7 +3,9 @@
 
 #include <wirefem/analysis/wire_state.h>
 
+#include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace wirefem::analysis
@@ -48,4 +50,16 @@ namespace wirefem::analysis
   /// the centre in the same sense; otherwise classic if A/B < 0.5 (the
   /// paper's criterion), else plastic.
   Morphology classify(const WireState &wire, double spiral_turns = 0.75);
+
+  /// The numbers of a Morphology under their summary.json / `wirefem analyze`
+  /// keys, so every writer lists the same keys.
+  inline std::array<std::pair<const char *, double>, 6> morphology_numbers(const Morphology &m)
+  {
+    return {{{"symmetry", m.symmetry},
+             {"curvature_ratio", m.curvature_ratio},
+             {"inner_wire_fraction", m.inner_wire_fraction},
+             {"curvature_density_ratio", m.curvature_density_ratio},
+             {"winding_left", m.winding_left},
+             {"winding_right", m.winding_right}}};
+  }
 } // namespace wirefem::analysis
