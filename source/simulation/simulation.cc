@@ -304,8 +304,6 @@ namespace wirefem::simulation
           next_vtu += scene.output.vtu_interval;
         }
       result.loops = loops;
-      result.morphology = morph.phase;
-      result.symmetry = morph.symmetry;
       result.shape = morph;
       return w;
     };
@@ -415,7 +413,7 @@ namespace wirefem::simulation
         opt.size_px = scene.output.picture_size;
         opt.tangential_channels = scene.injection.tangential_channels;
         opt.caption = fmt::format("{}  phi = {:.3f}  loops = {}  {}", scene.name, result.phi_final,
-                                  result.loops, result.morphology);
+                                  result.loops, result.shape.phase);
         io::write_pictures(w, (dir / "final.png").string(), (dir / "final.svg").string(), opt);
       }
 
@@ -431,7 +429,7 @@ namespace wirefem::simulation
     j["interrupted"] = result.interrupted;
     j["stop_reason"] = result.stop_reason;
     j["loops"] = result.loops;
-    j["morphology"] = result.morphology.empty() ? "plastic" : result.morphology;
+    j["morphology"] = result.shape.phase.empty() ? "plastic" : result.shape.phase;
     for (const auto &[key, value] : analysis::morphology_numbers(result.shape))
       j[key] = value;
     j["steps"] = result.steps;
@@ -466,7 +464,7 @@ namespace wirefem::simulation
                              "steps = {}, wall time = {:.1f} s, energy balance error = {:.2e}, "
                              "max overlap = {:.4f} d\n",
                              result.failed ? "stopped" : "finished", result.stop_reason, result.phi_final,
-                             result.loops, result.morphology, result.symmetry, result.steps,
+                             result.loops, result.shape.phase, result.shape.symmetry, result.steps,
                              result.wall_time_s, result.energy_balance_error, result.max_penetration);
     return result;
   }

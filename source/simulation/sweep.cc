@@ -347,7 +347,7 @@ namespace wirefem::simulation
           }
         std::cout << fmt::format(
                          "rank {}: kappa_theta {} mu_st {} seed {}: {}{}, phi {:.4f}, {} loops, {:.1f} s\n",
-                         rank, c.kappa, c.mu, c.seed, r.interrupted ? "interrupted" : r.morphology,
+                         rank, c.kappa, c.mu, c.seed, r.interrupted ? "interrupted" : r.shape.phase,
                          resume ? " (resumed)" : "", r.phi_final, r.loops, r.wall_time_s)
                   << std::flush;
         if (r.interrupted)

@@ -22,9 +22,7 @@ namespace wirefem::simulation
     double energy_balance_error = 0.0; ///< relative, over the whole run
     double max_penetration = 0.0;      ///< largest overlap over the whole run (d)
     int loops = 0;
-    std::string morphology;
-    double symmetry = 0.0;
-    analysis::Morphology shape; ///< the classifier's numbers at the end
+    analysis::Morphology shape; ///< the classifier's label and numbers at the end
   };
 
   struct RunOptions
