@@ -60,6 +60,14 @@ namespace
         }
   }
 
+  void random_velocities(Chain &c, const unsigned seed)
+  {
+    std::mt19937 gen(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int k = c.first; k < c.last; ++k)
+      c.v[k] = {u(gen), u(gen)};
+  }
+
   Chain wiggly_chain(const int n, const double amplitude, const unsigned seed)
   {
     Chain c(n + 4);
@@ -380,10 +388,7 @@ namespace
     const double damping = 2.0;
     discrete::BendingTerm term(material::MomentCurvatureLaw(0.0), damping, 20);
     Chain c = wiggly_chain(6, 0.1, 5);
-    std::mt19937 gen(6);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    for (int k = c.first; k < c.last; ++k)
-      c.v[k] = {u(gen), u(gen)};
+    random_velocities(c, 6);
     const double dt = 0.01;
     // First step: the dashpots start from zero force, so the ledger takes
     // half the power (trapezoidal rule over the step).
@@ -409,12 +414,14 @@ namespace
   // energy the term stores plus what it books as dissipated: zero when the
   // ledger is consistent with the scheme.
   double self_contact_ledger_error(const std::function<void(Chain &, double)> &place, const bool friction,
-                                   double &dissipated)
+                                   double &dissipated, const bool surface_torque = false,
+                                   const double mu_static = 0.5, double *peak_stored = nullptr)
   {
     discrete::ContactLaw law;
     law.normal_stiffness = 2000.0;
     law.friction = friction;
-    law.coefficients = {0.5, 0.4, 0.01, 1000.0};
+    law.surface_torque = surface_torque;
+    law.coefficients = {mu_static, 0.8 * mu_static, 0.01, 1000.0};
     Chain c(8);
     c.first = 0;
     c.last = 6;
@@ -443,8 +450,26 @@ namespace
         f_old = c.f;
         dissipated += e.friction_work;
         stored = e.contact + e.friction_stored;
+        if (peak_stored)
+          *peak_stored = std::max(*peak_stored, e.friction_stored);
       }
     return work + (stored - (e0.contact + e0.friction_stored)) + dissipated;
+  }
+
+  // Node 4 (with its neighbour 5) pressed onto segment 0, which rotates
+  // about the origin while the node slides along it; `turn` swings node 5
+  // so that node 4's own segment turns as well.
+  void node_on_rotating_segment(Chain &ch, const double t, const double turn)
+  {
+    const double a = 0.1 * std::sin(0.5 * t);
+    const Vec2 e{std::cos(a), std::sin(a)}, n = perp(e);
+    ch.x[0] = -1.0 * e;
+    ch.x[1] = 1.0 * e;
+    ch.x[2] = {3.0, 1.5};
+    ch.x[3] = {2.5, 4.0};
+    const double depth = 0.02 + 0.01 * std::sin(1.3 * t);
+    ch.x[4] = 0.3 * std::sin(2.0 * t) * e + (1.0 - depth) * n;
+    ch.x[5] = ch.x[4] + Vec2{-0.5 + turn * std::sin(0.9 * t), 1.0};
   }
 
   TEST(ForceTerms, FrictionDissipationIsTheWorkOfTheNodalForces)
@@ -452,17 +477,7 @@ namespace
     // A node pressed onto a rotating segment slides back and forth along it
     // (slip, with sticks at the reversals): the contact point and the
     // tangent move every step.
-    const auto node_on_segment = [](Chain &ch, const double t) {
-      const double a = 0.1 * std::sin(0.5 * t); // segment 0 rotates about the origin
-      const Vec2 e{std::cos(a), std::sin(a)}, n = perp(e);
-      ch.x[0] = -1.0 * e;
-      ch.x[1] = 1.0 * e;
-      ch.x[2] = {3.0, 1.5};
-      ch.x[3] = {2.5, 4.0};
-      const double depth = 0.02 + 0.01 * std::sin(1.3 * t);
-      ch.x[4] = 0.3 * std::sin(2.0 * t) * e + (1.0 - depth) * n; // node 4 on segment 0
-      ch.x[5] = ch.x[4] + Vec2{-0.5, 1.0};
-    };
+    const auto node_on_segment = [](Chain &ch, const double t) { node_on_rotating_segment(ch, t, 0.0); };
     // Segment 4 lies on segment 0 and rocks while it slides: its two end
     // nodes press on segment 0 by turns.
     const auto rocking_segment = [](Chain &ch, const double t) {
@@ -482,16 +497,132 @@ namespace
         // The motion is prescribed, so the normal forces are the same with
         // and without friction: the difference of the two errors is the
         // friction's.
-        double dissipated = 0.0, none = 0.0;
+        double dissipated = 0.0, none = 0.0, at_surface = 0.0;
         const double with_friction = self_contact_ledger_error(place, true, dissipated);
         const double without = self_contact_ledger_error(place, false, none);
         ASSERT_GT(dissipated, 1.0);
         EXPECT_EQ(none, 0.0);
         EXPECT_NEAR(with_friction - without, 0.0, 1e-9 * dissipated) << "dissipated " << dissipated;
+        // Friction at the surfaces: its moments are nodal forces too, and
+        // the ledger closes as well; the turning of the wires changes the
+        // slip, so the dissipation differs.
+        const double with_torque = self_contact_ledger_error(place, true, at_surface, true);
+        ASSERT_GT(at_surface, 1.0);
+        EXPECT_GT(std::abs(at_surface - dissipated), 1e-3 * dissipated);
+        EXPECT_NEAR(with_torque - without, 0.0, 1e-9 * at_surface) << "dissipated " << at_surface;
         // Without friction the ledger closes to the scheme's second-order
         // error (a contact appearing or vanishing at its full overlap would
         // leave 1/2 k_n (0.02 d)^2 = 0.4 here).
         EXPECT_NEAR(without, 0.0, 1e-5);
+      }
+  }
+
+  // The moments of surface friction are applied as nodal forces: they
+  // must have no resultant, the moment M about any point, and do the work
+  // M times the rotation rate the slip uses.
+  TEST(ForceTerms, SurfaceFrictionMomentsAreWorkConjugateToTheRotationRates)
+  {
+    Chain c = wiggly_chain(6, 0.3, 7);
+    random_velocities(c, 3);
+    const double moment = 0.37;
+    for (int k = c.first; k < c.last; ++k)
+      for (const bool node : {true, false})
+        {
+          if (!node && k + 1 >= c.last)
+            continue;
+          discrete::NodalForce forces[4];
+          const int n = node ? discrete::node_moment_forces(c, k, moment, forces)
+                             : discrete::segment_moment_forces(c, k, moment, forces);
+          ASSERT_EQ(n, node && k > c.first && k + 1 < c.last ? 4 : 2);
+          Vec2 resultant{};
+          double about_origin = 0.0, power = 0.0;
+          for (int i = 0; i < n; ++i)
+            {
+              resultant += forces[i].force;
+              about_origin += cross(c.x[forces[i].node], forces[i].force);
+              power += dot(forces[i].force, c.v[forces[i].node]);
+            }
+          const double rate =
+              node ? discrete::node_rotation_rate(c, k) : discrete::segment_rotation_rate(c, k);
+          EXPECT_NEAR(norm(resultant), 0.0, 1e-13) << k;
+          EXPECT_NEAR(about_origin, moment, 1e-12) << k;
+          EXPECT_NEAR(power, moment * rate, 1e-12 * (1.0 + std::abs(rate))) << k;
+        }
+    // A rigid rotation turns every segment and node at its rate.
+    const double omega = 0.8;
+    for (int k = c.first; k < c.last; ++k)
+      c.v[k] = omega * perp(c.x[k] - Vec2{0.4, -1.0});
+    for (int k = c.first; k < c.last; ++k)
+      EXPECT_NEAR(discrete::node_rotation_rate(c, k), omega, 1e-12);
+  }
+
+  // A wire turning in place against the wall (its node not moving) slides
+  // there only with surface friction: the surface moves at omega d/2, the
+  // friction force opposes that motion and its moment brakes the turning.
+  TEST(ForceTerms, WallFrictionAtTheSurfaceBrakesAWireTurningInPlace)
+  {
+    for (const bool surface : {false, true})
+      {
+        discrete::ContactLaw law;
+        law.normal_stiffness = 2000.0;
+        law.friction = true;
+        law.surface_torque = surface;
+        law.coefficients = {0.5, 0.4, 0.01, 400.0};
+        Chain c(5);
+        c.first = 0;
+        c.last = 3;
+        discrete::WallContactTerm term(5.0, law, c.capacity());
+        // Node 1 pressed 0.02 d into the wall at the bottom, its segments
+        // rising from it in a V clear of the wall, the wire turning
+        // counter-clockwise about it.
+        const Vec2 centre{0.0, -4.52};
+        c.x[0] = centre + Vec2{-0.8, 0.6};
+        c.x[1] = centre;
+        c.x[2] = centre + Vec2{0.8, 0.6};
+        const double omega = 0.1;
+        for (int k = 0; k < 3; ++k)
+          c.v[k] = omega * perp(c.x[k] - centre);
+        StepEnergy e;
+        term.add_forces(c, 1e-3, e);
+        double turning = 0.0;
+        Vec2 tangential{};
+        for (int k = 0; k < 3; ++k)
+          {
+            turning += cross(c.x[k] - centre, c.f[k]);
+            tangential += c.f[k];
+          }
+        if (!surface)
+          {
+            EXPECT_EQ(turning, 0.0);
+            EXPECT_NEAR(tangential.x, 0.0, 1e-15);
+            continue;
+          }
+        // Wall below: the surface point at centre - d/2 y moves along +x at
+        // omega d/2; its friction force -k_t u along x (u = omega d/2 dt),
+        // and the moment about the node is -d/2 times it (clockwise: braking).
+        const double u = omega * 0.5 * 1e-3, ft = -400.0 * u;
+        EXPECT_NEAR(tangential.x, ft, 1e-12);
+        EXPECT_NEAR(turning, 0.5 * ft, 1e-12);
+        EXPECT_LT(turning * omega, 0.0);
+      }
+  }
+
+  // A contact that never slips (mu_st = 1000) dissipates nothing but the
+  // scheme's second-order error, also with friction at the surface: the slip
+  // its spring sees must be the work-conjugate of the nodal forces it
+  // applies (with the sign of the turning flipped it dissipated 19% of the
+  // peak spring energy, against 2e-5 here).
+  TEST(ForceTerms, StickingFrictionAtTheSurfaceDissipatesNothing)
+  {
+    const auto node_and_segment_turning = [](Chain &ch, const double t) {
+      node_on_rotating_segment(ch, t, 0.2);
+    };
+    for (const bool torque : {false, true})
+      {
+        double stick = 0.0, peak = 0.0;
+        self_contact_ledger_error(node_and_segment_turning, true, stick, torque, 1e3, &peak);
+        ASSERT_GT(peak, 1.0);
+        EXPECT_LT(std::abs(stick), 1e-3 * peak) << "surface torque " << torque;
       }
   }
 
@@ -705,6 +836,18 @@ namespace
     const auto &e = m.energies();
     EXPECT_GT(e.friction, 0.0);
     EXPECT_GT(e.plastic, 0.0);
+    EXPECT_LT(std::abs(e.balance_error()), 0.01) << "work " << e.injection_work;
+  }
+
+  TEST(ChainModel, EnergyBalanceHoldsWithFrictionAtTheSurface)
+  {
+    const auto s =
+        small_scene({"Contact/Friction/Static coefficient=2", "Contact/Friction/Surface torque=true"});
+    discrete::ChainModel m(s);
+    while (m.injected_length() < 45.0)
+      m.step();
+    const auto &e = m.energies();
+    EXPECT_GT(e.friction, 0.0);
     EXPECT_LT(std::abs(e.balance_error()), 0.01) << "work " << e.injection_work;
   }
 } // namespace

@@ -74,6 +74,9 @@ namespace
              {{"Injection/Slow start length=5", "Injection/Slow start speed=0"},
               "Injection/Slow start speed",
               "must be positive"},
+             {{"Model=fem", "Contact/Friction/Surface torque=true"},
+              "Contact/Friction/Surface torque",
+              "Model = discrete only"},
          })
       {
         const auto msg = error_of(f, c.overrides);

@@ -91,6 +91,7 @@ namespace wirefem::discrete
     law.normal_stiffness = kn;
     law.coefficients.threshold_velocity = fr.threshold_velocity;
     law.coefficients.tangential_stiffness = fr.tangential_stiffness_ratio * kn;
+    law.surface_torque = fr.surface_torque;
     bool any_friction = false;
     if (con.wall_contact)
       {
@@ -124,6 +125,8 @@ namespace wirefem::discrete
       }
     if (any_friction)
       effects.push_back("friction");
+    if (any_friction && fr.surface_torque)
+      effects.push_back("surface torque");
     // 4 k_n/m covers a node in two contacts; the sticking springs (k_t <=
     // k_n) fit inside that margin, so the step does not depend on whether
     // friction is on - a neutral effect must not change the trajectory.

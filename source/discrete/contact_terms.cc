@@ -38,8 +38,54 @@ namespace wirefem::discrete
     stored = stored_trial = io::read_raw<double>(in);
   }
 
+  double segment_rotation_rate(const Chain &c, const int a)
+  {
+    const Vec2 r = c.x[a + 1] - c.x[a];
+    return cross(r, c.v[a + 1] - c.v[a]) / dot(r, r);
+  }
+
+  double node_rotation_rate(const Chain &c, const int k)
+  {
+    const bool left = k - 1 >= c.first, right = k + 1 < c.last;
+    if (left && right)
+      return 0.5 * (segment_rotation_rate(c, k - 1) + segment_rotation_rate(c, k));
+    return left ? segment_rotation_rate(c, k - 1) : segment_rotation_rate(c, k);
+  }
+
+  int segment_moment_forces(const Chain &c, const int a, const double moment, NodalForce *out)
+  {
+    // The segment's angle phi has d phi / d x_{a+1} = perp(r) / |r|^2 = -d phi / d x_a.
+    const Vec2 r = c.x[a + 1] - c.x[a];
+    const Vec2 g = (moment / dot(r, r)) * perp(r);
+    out[0] = {a + 1, g};
+    out[1] = {a, -1.0 * g};
+    return 2;
+  }
+
+  int node_moment_forces(const Chain &c, const int k, const double moment, NodalForce *out)
+  {
+    const bool left = k - 1 >= c.first, right = k + 1 < c.last;
+    const double share = left && right ? 0.5 * moment : moment;
+    int n = 0;
+    if (left)
+      n += segment_moment_forces(c, k - 1, share, out + n);
+    if (right)
+      n += segment_moment_forces(c, k, share, out + n);
+    return n;
+  }
+
   namespace
   {
+    /// Applies the nodal forces of a friction moment and books them as friction.
+    void apply_friction_moment(Chain &c, FrictionWork &work, const NodalForce *forces, const int n)
+    {
+      for (int i = 0; i < n; ++i)
+        {
+          c.f[forces[i].node] += forces[i].force;
+          work.add_force(forces[i].node, forces[i].force);
+        }
+    }
+
     void require_capacity(const ContactLaw &law, const int capacity, const char *term)
     {
       if (law.friction && capacity <= 0)
@@ -101,12 +147,20 @@ namespace wirefem::discrete
         if (law.friction)
           {
             const Vec2 t = perp(n);
-            const double vt = dot(c.v[k], t);
+            // At the surface (arm d/2 along n) the node's rotation adds to
+            // the slip, and the friction force turns the node.
+            const double vt = dot(c.v[k], t) + (law.surface_torque ? half_d * node_rotation_rate(c, k) : 0.0);
             const auto it = history.find(k);
             const auto r = contact::friction_update(
                 law.coefficients, fn, vt, dt, it == history.end() ? contact::FrictionHistory{} : it->second);
             c.f[k] += r.force * t;
             friction_work.add_force(k, r.force * t);
+            if (law.surface_torque)
+              {
+                NodalForce forces[4];
+                apply_friction_moment(c, friction_work, forces,
+                                      node_moment_forces(c, k, half_d * r.force, forces));
+              }
             const double stored =
                 0.5 * law.coefficients.tangential_stiffness * r.history.elongation * r.history.elongation;
             e.friction_stored += stored;
@@ -188,7 +242,13 @@ namespace wirefem::discrete
               {
                 const Vec2 tangent = perp(n);
                 const Vec2 vq = (1.0 - t) * c.v[m] + t * c.v[m + 1];
-                const double vt = dot(c.v[k] - vq, tangent);
+                // At the surfaces (arms d/2 against n on the node's side,
+                // along n on the segment's) both wires' rotations add to the slip.
+                const double half_d = 0.5 * law.diameter;
+                const double vt =
+                    dot(c.v[k] - vq, tangent) -
+                    (law.surface_torque ? half_d * (node_rotation_rate(c, k) + segment_rotation_rate(c, m))
+                                        : 0.0);
                 // A node that slides across a node of the other wire moves on
                 // to the neighbouring segment: it keeps its history.
                 contact::FrictionHistory old;
@@ -205,6 +265,14 @@ namespace wirefem::discrete
                 friction_work.add_force(k, ft);
                 friction_work.add_force(m, -(1.0 - t) * ft);
                 friction_work.add_force(m + 1, -t * ft);
+                if (law.surface_torque)
+                  {
+                    // Both surfaces get the moment -d/2 F_t of the friction force at their arms.
+                    NodalForce forces[6];
+                    int nf = node_moment_forces(c, k, -half_d * r.force, forces);
+                    nf += segment_moment_forces(c, m, -half_d * r.force, forces + nf);
+                    apply_friction_moment(c, friction_work, forces, nf);
+                  }
                 const double stored =
                     0.5 * law.coefficients.tangential_stiffness * r.history.elongation * r.history.elongation;
                 e.friction_stored += stored;

@@ -230,6 +230,11 @@ namespace wirefem::scene
                 "k_t/k_n of the spring that carries static friction while a contact sticks. 0.2 (close to "
                 "the 2/7 of elastic spheres): stiffer springs raise the first-order time-stepping error of "
                 "the energy balance at mu_st = 5 (1% at 0.5, 0.3% at 0.1 on the f = 25 classic scene).");
+      d.declare("Contact/Friction/Surface torque", "false", boolean,
+                "Discrete model: friction acts at the wire's surface, d/2 off the centreline, so it "
+                "also turns the wire there (moment d/2 F_t on the node's segments) and the slip "
+                "includes the surface's turning (d/2 times the rotation rate). false: at the "
+                "centreline, as a point-mass chain has it.");
 
       d.declare("Injection/Speed", "1", any_double,
                 "Injection speed of each channel (d/time). 1 is 1/30 of the axial wave speed "
@@ -413,6 +418,7 @@ namespace wirefem::scene
       f.wall_dynamic_coefficient = wd < 0 ? (wst < 0 ? f.dynamic_coefficient : 0.8 * wst) : wd;
       f.threshold_velocity = d.get_double("Contact/Friction/Threshold velocity");
       f.tangential_stiffness_ratio = d.get_double("Contact/Friction/Tangential stiffness ratio");
+      f.surface_torque = d.get_bool("Contact/Friction/Surface torque");
       auto &in = s.injection;
       in.speed = d.get_double("Injection/Speed");
       in.ramp_time = d.get_double("Injection/Ramp time");
@@ -595,6 +601,8 @@ namespace wirefem::scene
       check(fe.time_step >= 0, w, "FEM/Time step", "must not be negative");
       check(fe.minimum_time_step > 0, w, "FEM/Minimum time step", "must be positive");
       check(fe.newton_tolerance > 0, w, "FEM/Newton tolerance", "must be positive");
+      check(!s.contact.friction.surface_torque || s.model == ModelType::discrete, w,
+            "Contact/Friction/Surface torque", "is implemented for Model = discrete only");
       check(!fe.spring_friction || s.model == ModelType::discrete || s.setup == Setup::capstan, w,
             "FEM/Friction law", "'spring' is implemented for Set-up = capstan only");
       check(s.output.interval > 0, w, "Output/Interval", "must be positive");

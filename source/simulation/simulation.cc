@@ -128,6 +128,7 @@ namespace wirefem::simulation
                   : std::string()) +
              (i.mirror_asymmetry != 1.0 ? fmt::format(" mirror asymmetry {}", i.mirror_asymmetry)
                                         : std::string()) +
+             (f.surface_torque ? std::string(" surface torque") : std::string()) +
              fmt::format(" {} {} {} {} {} {} {} {} {} {}", int(s.fem.formulation), s.fem.degree,
                          s.fem.element_length, s.fem.shear_stiffness, s.fem.kirchhoff_penalty,
                          int(s.fem.integrator), s.fem.spectral_radius, s.fem.time_step,

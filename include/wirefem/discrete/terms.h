@@ -252,6 +252,24 @@ namespace wirefem::discrete
     double moment;
   };
 
+  /// A nodal force, for the moments of surface friction.
+  struct NodalForce
+  {
+    int node = 0;
+    geometry::Vec2 force;
+  };
+
+  /// Angular velocity of segment a -> a + 1.
+  double segment_rotation_rate(const Chain &chain, int a);
+  /// Rotation rate of node k: the mean of its segments' angular velocities
+  /// (its one segment's at an end of the active chain).
+  double node_rotation_rate(const Chain &chain, int k);
+  /// The nodal forces of a moment M on segment a -> a + 1 (2 entries) or on
+  /// node k (up to 4), work-conjugate to the rates above: the sum of
+  /// force . v over the entries is M times the rate. Return the count.
+  int segment_moment_forces(const Chain &chain, int a, double moment, NodalForce *out);
+  int node_moment_forces(const Chain &chain, int k, double moment, NodalForce *out);
+
   /// Parameters shared by the contact terms.
   struct ContactLaw
   {
@@ -259,6 +277,9 @@ namespace wirefem::discrete
     double normal_stiffness = 1000.0;
     bool friction = false;
     contact::FrictionCoefficients coefficients;
+    /// Friction acts at the surface, d/2 off the centreline: it turns the
+    /// wire there too, and the slip includes the surface's turning.
+    bool surface_torque = false;
   };
 
   /// Wire-wall contact: the node's surface stays off the wall, the circle of

@@ -146,6 +146,7 @@ namespace wirefem::scene
     double wall_dynamic_coefficient = 0.0;   ///< mu_d at the wall
     double threshold_velocity = 0.01;        ///< v_th (d / time): below it, static again
     double tangential_stiffness_ratio = 0.2; ///< k_t / k_n of the sticking spring
+    bool surface_torque = false;             ///< friction acts at the surface (arm d/2), discrete model
   };
 
   struct ContactParameters
