@@ -408,32 +408,26 @@ namespace
     EXPECT_GT(e.damping_work, 0.0);
   }
 
-  // The work the friction and contact forces of a self contact do on the
-  // nodes of a prescribed motion (trapezoidal rule, by which the kinetic
-  // energy of the central-difference scheme changes) plus the change of the
-  // energy the term stores plus what it books as dissipated: zero when the
-  // ledger is consistent with the scheme.
-  double self_contact_ledger_error(const std::function<void(Chain &, double)> &place, const bool friction,
-                                   double &dissipated, const bool surface_torque = false,
-                                   const double mu_static = 0.5, double *peak_stored = nullptr)
+  struct LedgerRun
   {
-    discrete::ContactLaw law;
-    law.normal_stiffness = 2000.0;
-    law.friction = friction;
-    law.surface_torque = surface_torque;
-    law.coefficients = {mu_static, 0.8 * mu_static, 0.01, 1000.0};
-    Chain c(8);
-    c.first = 0;
-    c.last = 6;
-    discrete::SelfContactTerm term(law, 0.5, 1, c.capacity());
+    double error = 0.0;       ///< work + change of stored energy + dissipated
+    double dissipated = 0.0;  ///< booked as friction work
+    double peak_stored = 0.0; ///< largest energy in the sticking springs
+  };
+
+  // Runs `term` over 20000 steps of a prescribed motion of the chain and
+  // returns its ledger; `in_contact` is asserted at every step.
+  LedgerRun contact_ledger(discrete::Term &term, Chain c, const std::function<void(Chain &, double)> &place,
+                           const std::function<bool()> &in_contact)
+  {
     const double dt = 1e-3;
     place(c, 0.0);
     StepEnergy e0;
     term.add_forces(c, dt, e0);
     term.commit();
     auto f_old = c.f;
+    LedgerRun run;
     double work = 0.0, stored = e0.contact + e0.friction_stored;
-    dissipated = 0.0;
     for (int n = 1; n <= 20000; ++n)
       {
         const auto x_old = c.x;
@@ -443,17 +437,42 @@ namespace
         std::fill(c.f.begin(), c.f.end(), Vec2{});
         StepEnergy e;
         term.add_forces(c, dt, e);
-        EXPECT_GE(term.active_pairs().size(), 1u) << "step " << n;
+        EXPECT_TRUE(in_contact()) << "step " << n;
         term.commit();
         for (int k = c.first; k < c.last; ++k)
           work += 0.5 * dot(f_old[k] + c.f[k], c.x[k] - x_old[k]);
         f_old = c.f;
-        dissipated += e.friction_work;
+        run.dissipated += e.friction_work;
         stored = e.contact + e.friction_stored;
-        if (peak_stored)
-          *peak_stored = std::max(*peak_stored, e.friction_stored);
+        run.peak_stored = std::max(run.peak_stored, e.friction_stored);
       }
-    return work + (stored - (e0.contact + e0.friction_stored)) + dissipated;
+    run.error = work + (stored - (e0.contact + e0.friction_stored)) + run.dissipated;
+    return run;
+  }
+
+  discrete::ContactLaw ledger_law(const bool friction, const bool surface_torque, const double mu_static)
+  {
+    discrete::ContactLaw law;
+    law.normal_stiffness = 2000.0;
+    law.friction = friction;
+    law.surface_torque = surface_torque;
+    law.coefficients = {mu_static, 0.8 * mu_static, 0.01, 1000.0};
+    return law;
+  }
+
+  // The work the friction and contact forces of a self contact do on the
+  // nodes of a prescribed motion (trapezoidal rule, by which the kinetic
+  // energy of the central-difference scheme changes) plus the change of the
+  // energy the term stores plus what it books as dissipated: zero when the
+  // ledger is consistent with the scheme.
+  LedgerRun self_contact_ledger(const std::function<void(Chain &, double)> &place, const bool friction,
+                                const bool surface_torque = false, const double mu_static = 0.5)
+  {
+    Chain c(8);
+    c.first = 0;
+    c.last = 6;
+    discrete::SelfContactTerm term(ledger_law(friction, surface_torque, mu_static), 0.5, 1, c.capacity());
+    return contact_ledger(term, c, place, [&] { return !term.active_pairs().empty(); });
   }
 
   // Node 4 (with its neighbour 5) pressed onto segment 0, which rotates
@@ -497,23 +516,23 @@ namespace
         // The motion is prescribed, so the normal forces are the same with
         // and without friction: the difference of the two errors is the
         // friction's.
-        double dissipated = 0.0, none = 0.0, at_surface = 0.0;
-        const double with_friction = self_contact_ledger_error(place, true, dissipated);
-        const double without = self_contact_ledger_error(place, false, none);
-        ASSERT_GT(dissipated, 1.0);
-        EXPECT_EQ(none, 0.0);
-        EXPECT_NEAR(with_friction - without, 0.0, 1e-9 * dissipated) << "dissipated " << dissipated;
+        const auto with_friction = self_contact_ledger(place, true);
+        const auto without = self_contact_ledger(place, false);
+        ASSERT_GT(with_friction.dissipated, 1.0);
+        EXPECT_EQ(without.dissipated, 0.0);
+        EXPECT_NEAR(with_friction.error - without.error, 0.0, 1e-9 * with_friction.dissipated);
         // Friction at the surfaces: its moments are nodal forces too, and
         // the ledger closes as well; the turning of the wires changes the
         // slip, so the dissipation differs.
-        const double with_torque = self_contact_ledger_error(place, true, at_surface, true);
-        ASSERT_GT(at_surface, 1.0);
-        EXPECT_GT(std::abs(at_surface - dissipated), 1e-3 * dissipated);
-        EXPECT_NEAR(with_torque - without, 0.0, 1e-9 * at_surface) << "dissipated " << at_surface;
+        const auto with_torque = self_contact_ledger(place, true, true);
+        ASSERT_GT(with_torque.dissipated, 1.0);
+        EXPECT_GT(std::abs(with_torque.dissipated - with_friction.dissipated),
+                  1e-3 * with_friction.dissipated);
+        EXPECT_NEAR(with_torque.error - without.error, 0.0, 1e-9 * with_torque.dissipated);
         // Without friction the ledger closes to the scheme's second-order
         // error (a contact appearing or vanishing at its full overlap would
         // leave 1/2 k_n (0.02 d)^2 = 0.4 here).
-        EXPECT_NEAR(without, 0.0, 1e-5);
+        EXPECT_NEAR(without.error, 0.0, 1e-5);
       }
   }
 
@@ -610,19 +629,39 @@ namespace
   // A contact that never slips (mu_st = 1000) dissipates nothing but the
   // scheme's second-order error, also with friction at the surface: the slip
   // its spring sees must be the work-conjugate of the nodal forces it
-  // applies (with the sign of the turning flipped it dissipated 19% of the
-  // peak spring energy, against 2e-5 here).
+  // applies. With the sign of the turning in the slip flipped, the self
+  // contact dissipated 19% of the peak spring energy and the wall contact
+  // 130% (it gained energy), against at most 2e-5 here.
   TEST(ForceTerms, StickingFrictionAtTheSurfaceDissipatesNothing)
   {
     const auto node_and_segment_turning = [](Chain &ch, const double t) {
       node_on_rotating_segment(ch, t, 0.2);
     };
+    // A V of two segments rocking on its tip, pressed into the bottom of
+    // the wall, which rolls to and fro a little.
+    const auto rocking_on_the_wall = [](Chain &ch, const double t) {
+      const double a = 0.3 * std::sin(0.7 * t), depth = 0.02 + 0.01 * std::sin(1.3 * t);
+      const Vec2 tip{0.02 * std::sin(0.4 * t), -(4.5 + depth)};
+      const Vec2 l{std::cos(a) * -0.8 - std::sin(a) * 0.6, std::sin(a) * -0.8 + std::cos(a) * 0.6};
+      const Vec2 r{std::cos(a) * 0.8 - std::sin(a) * 0.6, std::sin(a) * 0.8 + std::cos(a) * 0.6};
+      ch.x[0] = tip + l;
+      ch.x[1] = tip;
+      ch.x[2] = tip + r;
+    };
     for (const bool torque : {false, true})
       {
-        double stick = 0.0, peak = 0.0;
-        self_contact_ledger_error(node_and_segment_turning, true, stick, torque, 1e3, &peak);
-        ASSERT_GT(peak, 1.0);
-        EXPECT_LT(std::abs(stick), 1e-3 * peak) << "surface torque " << torque;
+        const auto self = self_contact_ledger(node_and_segment_turning, true, torque, 1e3);
+        ASSERT_GT(self.peak_stored, 1.0);
+        EXPECT_LT(std::abs(self.dissipated), 1e-3 * self.peak_stored)
+            << "self contact, surface torque " << torque;
+
+        Chain c(5);
+        c.first = 0;
+        c.last = 3;
+        discrete::WallContactTerm wall(5.0, ledger_law(true, torque, 1e3), c.capacity());
+        const auto run = contact_ledger(wall, c, rocking_on_the_wall, [] { return true; });
+        ASSERT_GT(run.peak_stored, 1e-3);
+        EXPECT_LT(std::abs(run.dissipated), 1e-3 * run.peak_stored) << "wall, surface torque " << torque;
       }
   }
 
@@ -839,13 +878,30 @@ namespace
     EXPECT_LT(std::abs(e.balance_error()), 0.01) << "work " << e.injection_work;
   }
 
+  std::string exact(const double x)
+  {
+    std::ostringstream out;
+    out.precision(17);
+    out << x;
+    return out.str();
+  }
+
   TEST(ChainModel, EnergyBalanceHoldsWithFrictionAtTheSurface)
   {
     const auto s =
         small_scene({"Contact/Friction/Static coefficient=2", "Contact/Friction/Surface torque=true"});
     discrete::ChainModel m(s);
+    // The same step without the option (the option shortens the automatic
+    // step), so only the torque can make the runs differ.
+    discrete::ChainModel off(
+        small_scene({"Contact/Friction/Static coefficient=2", "Discrete/Time step=" + exact(m.time_step())}));
+    const auto &effects = m.active_effects();
+    EXPECT_NE(std::find(effects.begin(), effects.end(), "surface torque"), effects.end());
     while (m.injected_length() < 45.0)
       m.step();
+    while (off.injected_length() < 45.0)
+      off.step();
+    EXPECT_NE(state_hash(m), state_hash(off)) << "the option reached no contact";
     const auto &e = m.energies();
     EXPECT_GT(e.friction, 0.0);
     EXPECT_LT(std::abs(e.balance_error()), 0.01) << "work " << e.injection_work;

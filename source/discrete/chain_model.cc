@@ -132,6 +132,17 @@ namespace wirefem::discrete
     // friction is on - a neutral effect must not change the trajectory.
     if (con.wall_contact || con.self_contact)
       omega2 += 4.0 * kn / mass;
+    // Friction at the surface turns the wire too: a contact's slip then also
+    // moves with the nodes next to it (d/2 times the turning of a node and
+    // of a segment), and the squared norm of its gradient, at most 2
+    // without, is at most (sqrt 2 + 0.94 d/lambda_0)^2: the sticking springs
+    // of a node in two contacts add 2 k_t ((sqrt 2 + d/lambda_0)^2 - 2)/m.
+    // The option is not a neutral effect, so the step may change with it.
+    if (any_friction && fr.surface_torque)
+      {
+        const double arm = std::sqrt(2.0) + diameter / lambda0;
+        omega2 += 2.0 * fr.tangential_stiffness_ratio * kn * (arm * arm - 2.0) / mass;
+      }
     // The channel walls: as stiff per length as the contact penalty per d.
     const double k_channel = con.normal_stiffness / diameter;
     terms.push_back(std::make_unique<ChannelTerm>(channels, k_channel));

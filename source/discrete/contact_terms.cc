@@ -3,6 +3,7 @@
 #include <wirefem/injection/channels.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -46,6 +47,7 @@ namespace wirefem::discrete
 
   double node_rotation_rate(const Chain &c, const int k)
   {
+    assert(c.last - c.first >= 2);
     const bool left = k - 1 >= c.first, right = k + 1 < c.last;
     if (left && right)
       return 0.5 * (segment_rotation_rate(c, k - 1) + segment_rotation_rate(c, k));
@@ -149,7 +151,8 @@ namespace wirefem::discrete
             const Vec2 t = perp(n);
             // At the surface (arm d/2 along n) the node's rotation adds to
             // the slip, and the friction force turns the node.
-            const double vt = dot(c.v[k], t) + (law.surface_torque ? half_d * node_rotation_rate(c, k) : 0.0);
+            const double vt =
+                law.surface_torque ? dot(c.v[k], t) + half_d * node_rotation_rate(c, k) : dot(c.v[k], t);
             const auto it = history.find(k);
             const auto r = contact::friction_update(
                 law.coefficients, fn, vt, dt, it == history.end() ? contact::FrictionHistory{} : it->second);

@@ -206,6 +206,7 @@ namespace wirefem::simulation
     wall.coefficients.mu_dynamic = fr.wall_dynamic_coefficient;
     wall.coefficients.threshold_velocity = fr.threshold_velocity;
     wall.coefficients.tangential_stiffness = fr.tangential_stiffness_ratio * kn;
+    wall.surface_torque = fr.surface_torque;
     terms.push_back(std::make_unique<discrete::WallContactTerm>(scene.cavity.radius, wall, n + 1));
     auto resist = std::make_unique<discrete::EndThrustTerm>(discrete::EndThrustTerm::End::last, 0.0, -held);
     discrete::EndThrustTerm *lead = resist.get();
