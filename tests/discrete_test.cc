@@ -416,9 +416,10 @@ namespace
   };
 
   // Runs `term` over 20000 steps of a prescribed motion of the chain and
-  // returns its ledger; `in_contact` is asserted at every step.
+  // returns its ledger; `in_contact` (of the step's energies) is asserted at
+  // every step.
   LedgerRun contact_ledger(discrete::Term &term, Chain c, const std::function<void(Chain &, double)> &place,
-                           const std::function<bool()> &in_contact)
+                           const std::function<bool(const StepEnergy &)> &in_contact)
   {
     const double dt = 1e-3;
     place(c, 0.0);
@@ -437,7 +438,7 @@ namespace
         std::fill(c.f.begin(), c.f.end(), Vec2{});
         StepEnergy e;
         term.add_forces(c, dt, e);
-        EXPECT_TRUE(in_contact()) << "step " << n;
+        EXPECT_TRUE(in_contact(e)) << "step " << n;
         term.commit();
         for (int k = c.first; k < c.last; ++k)
           work += 0.5 * dot(f_old[k] + c.f[k], c.x[k] - x_old[k]);
@@ -472,7 +473,7 @@ namespace
     c.first = 0;
     c.last = 6;
     discrete::SelfContactTerm term(ledger_law(friction, surface_torque, mu_static), 0.5, 1, c.capacity());
-    return contact_ledger(term, c, place, [&] { return !term.active_pairs().empty(); });
+    return contact_ledger(term, c, place, [](const StepEnergy &e) { return e.n_self_contacts > 0; });
   }
 
   // Node 4 (with its neighbour 5) pressed onto segment 0, which rotates
@@ -582,11 +583,7 @@ namespace
   {
     for (const bool surface : {false, true})
       {
-        discrete::ContactLaw law;
-        law.normal_stiffness = 2000.0;
-        law.friction = true;
-        law.surface_torque = surface;
-        law.coefficients = {0.5, 0.4, 0.01, 400.0};
+        const auto law = ledger_law(true, surface, 0.5);
         Chain c(5);
         c.first = 0;
         c.last = 3;
@@ -619,7 +616,7 @@ namespace
         // Wall below: the surface point at centre - d/2 y moves along +x at
         // omega d/2; its friction force -k_t u along x (u = omega d/2 dt),
         // and the moment about the node is -d/2 times it (clockwise: braking).
-        const double u = omega * 0.5 * 1e-3, ft = -400.0 * u;
+        const double u = omega * 0.5 * 1e-3, ft = -law.coefficients.tangential_stiffness * u;
         EXPECT_NEAR(tangential.x, ft, 1e-12);
         EXPECT_NEAR(turning, 0.5 * ft, 1e-12);
         EXPECT_LT(turning * omega, 0.0);
@@ -642,11 +639,10 @@ namespace
     const auto rocking_on_the_wall = [](Chain &ch, const double t) {
       const double a = 0.3 * std::sin(0.7 * t), depth = 0.02 + 0.01 * std::sin(1.3 * t);
       const Vec2 tip{0.02 * std::sin(0.4 * t), -(4.5 + depth)};
-      const Vec2 l{std::cos(a) * -0.8 - std::sin(a) * 0.6, std::sin(a) * -0.8 + std::cos(a) * 0.6};
-      const Vec2 r{std::cos(a) * 0.8 - std::sin(a) * 0.6, std::sin(a) * 0.8 + std::cos(a) * 0.6};
-      ch.x[0] = tip + l;
+      const Vec2 e{std::cos(a), std::sin(a)}, up = perp(e);
+      ch.x[0] = tip - 0.8 * e + 0.6 * up;
       ch.x[1] = tip;
-      ch.x[2] = tip + r;
+      ch.x[2] = tip + 0.8 * e + 0.6 * up;
     };
     for (const bool torque : {false, true})
       {
@@ -659,7 +655,8 @@ namespace
         c.first = 0;
         c.last = 3;
         discrete::WallContactTerm wall(5.0, ledger_law(true, torque, 1e3), c.capacity());
-        const auto run = contact_ledger(wall, c, rocking_on_the_wall, [] { return true; });
+        const auto run = contact_ledger(wall, c, rocking_on_the_wall,
+                                        [](const StepEnergy &e) { return e.n_wall_contacts > 0; });
         ASSERT_GT(run.peak_stored, 1e-3);
         EXPECT_LT(std::abs(run.dissipated), 1e-3 * run.peak_stored) << "wall, surface torque " << torque;
       }
