@@ -1,5 +1,6 @@
 # Runs EXE PRM --set SETTING [--set MODEL] and expects exit 0 and summary.json
-# "failed": false. MODEL (optional) is a second setting, such as Model=fem.
+# "failed": false. MODEL (optional) is a second setting, such as Model=fem;
+# JAMMED=ON also asks for "jammed": true.
 set(extra)
 if(MODEL)
   set(extra --set ${MODEL})
@@ -14,6 +15,14 @@ file(READ ${OUT}/summary.json summary)
 string(JSON failed GET "${summary}" failed)
 if(failed)
   message(FATAL_ERROR "run stopped by a numerical limit: ${summary}")
+endif()
+# With -DJAMMED=ON the run must have stopped by jamming, not at the maximum
+# packing density.
+if(JAMMED)
+  string(JSON jammed GET "${summary}" jammed)
+  if(NOT jammed)
+    message(FATAL_ERROR "the run did not jam: ${summary}")
+  endif()
 endif()
 # The summary names the code that made it: the version `wirefem --version`
 # prints, with a commit.

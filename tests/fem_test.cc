@@ -442,34 +442,205 @@ namespace
       }
   }
 
+  // A contact on N points: its residual is the gradient of its energy
+  // (without friction) and its tangent the derivative of its residual, by
+  // central differences in every coordinate. contribution(x, out) is the
+  // contact function at positions x.
+  template <std::size_t N, typename Contribution>
+  void expect_consistent_contact(const std::array<Vec2, N> &x, const bool friction,
+                                 const Contribution &contribution)
+  {
+    constexpr int nd = 2 * N;
+    fem::ContactContribution cc, cp, cm;
+    ASSERT_TRUE(contribution(x, cc));
+    for (int j = 0; j < nd; ++j)
+      {
+        const double h = 1e-7;
+        auto xp = x, xm = x;
+        (j % 2 ? xp[j / 2].y : xp[j / 2].x) += h;
+        (j % 2 ? xm[j / 2].y : xm[j / 2].x) -= h;
+        ASSERT_TRUE(contribution(xp, cp));
+        ASSERT_TRUE(contribution(xm, cm));
+        for (int i = 0; i < nd; ++i)
+          EXPECT_NEAR((cp.residual[i] - cm.residual[i]) / (2 * h), cc.tangent[i * nd + j],
+                      1e-5 * std::abs(cc.tangent[i * nd + j]) + 1e-5)
+              << i << ", " << j;
+        if (!friction)
+          {
+            EXPECT_NEAR((cp.energy - cm.energy) / (2 * h), cc.residual[j], 1e-6 * cc.normal_force) << j;
+          }
+      }
+  }
+
   TEST(FemContact, SegmentForceIsTheGradientAndTangentTheDerivative)
   {
     // End point of B against the interior of A, and end against end.
+    const std::array<Vec2, 4> v0{{{0.001, 0}, {0.002, 0.001}, {-0.003, 0}, {0, 0.002}}};
     for (const std::array<Vec2, 4> x : {std::array<Vec2, 4>{{{0, 0}, {1, 0.1}, {0.4, 0.8}, {0.7, 1.9}}},
                                         std::array<Vec2, 4>{{{0, 0}, {1, 0.1}, {1.5, 0.6}, {2.5, 1.0}}}})
       for (const bool friction : {false, true})
-        {
-          const std::array<Vec2, 4> v0{{{0.001, 0}, {0.002, 0.001}, {-0.003, 0}, {0, 0.002}}};
-          const double c = 40.0;
-          fem::ContactContribution cc, cp, cm;
-          ASSERT_TRUE(fem::segment_contact(settings(friction), 1.0, x, v0, c, cc));
-          for (int j = 0; j < 8; ++j)
+        expect_consistent_contact(x, friction,
+                                  [&](const std::array<Vec2, 4> &y, fem::ContactContribution &out) {
+                                    return fem::segment_contact(settings(friction), 1.0, y, v0, 40.0, out);
+                                  });
+  }
+
+  TEST(FemContact, PointForceIsTheGradientAndTangentTheDerivative)
+  {
+    const std::array<Vec2, 2> x{{{0.1, 0.2}, {0.7, 0.9}}};
+    const std::array<Vec2, 2> v0{{{0.001, -0.002}, {0.003, 0.001}}};
+    fem::ContactContribution cc;
+    ASSERT_TRUE(fem::point_point_contact(settings(false), 0.5, x, v0, 40.0, cc));
+    EXPECT_NEAR(cc.overlap, 1.0 - norm(x[0] - x[1]), 1e-15);
+    EXPECT_NEAR(cc.energy, 0.25 * settings(false).stiffness * cc.overlap * cc.overlap, 1e-12);
+    for (const bool friction : {false, true})
+      expect_consistent_contact(x, friction,
+                                [&](const std::array<Vec2, 2> &y, fem::ContactContribution &out) {
+                                  return fem::point_point_contact(settings(friction), 0.5, y, v0, 40.0, out);
+                                });
+  }
+
+  // The contact of point p with the polyline `wire` as the rod model
+  // assembles it: every segment through point_stretch_contact, each but the
+  // last with its next segment pressing too. Energy and the residual on p
+  // and on the wire's nodes (p first).
+  struct StretchContact
+  {
+    double energy = 0.0;
+    std::vector<double> residual;
+    std::vector<double> tangent; ///< row major, square
+    int n_touching = 0;
+  };
+
+  StretchContact stretch_contact(const Vec2 &p, const std::vector<Vec2> &wire, const bool friction = false,
+                                 const std::vector<Vec2> &v0 = {})
+  {
+    const int n = static_cast<int>(wire.size()), nd = 2 * (n + 1);
+    StretchContact r;
+    r.residual.assign(nd, 0.0);
+    r.tangent.assign(nd * nd, 0.0);
+    for (int s = 0; s + 1 < n; ++s)
+      {
+        const auto vel = [&](int k) { return v0.empty() ? Vec2{0, 0} : v0[k]; };
+        fem::ContactContribution cc;
+        double t, fv;
+        if (!fem::point_stretch_contact(settings(friction), 0.5, {{p, wire[s], wire[s + 1]}},
+                                        {{vel(0), vel(s + 1), vel(s + 2)}}, 40.0, s + 2 < n, cc, t, fv))
+          continue;
+        ++r.n_touching;
+        r.energy += cc.energy;
+        const int ids[3] = {0, s + 1, s + 2}; // points: p, then the wire's nodes
+        for (int a = 0; a < 6; ++a)
+          {
+            const int ga = 2 * ids[a / 2] + a % 2;
+            r.residual[ga] += cc.residual[a];
+            for (int b = 0; b < 6; ++b)
+              r.tangent[ga * nd + 2 * ids[b / 2] + b % 2] += cc.tangent[a * 6 + b];
+          }
+      }
+    return r;
+  }
+
+  TEST(FemContact, AStretchPressesAPointOnceOnItsStraightPartAndOuterSide)
+  {
+    const double k = 0.5 * settings(false).stiffness;
+    // Straight wire of uneven segments: p at height 0.97 feels one contact
+    // of overlap 0.03 wherever it is along it, past nodes too.
+    const std::vector<Vec2> straight{{0, 0}, {1, 0}, {1.7, 0}, {2.9, 0}, {3.5, 0}, {4.6, 0}, {6, 0}};
+    int near_a_node = 0; // samples where two segments reach p
+    for (double a = 1.0; a <= 5.0; a += 0.0137)
+      {
+        const auto r = stretch_contact({a, 0.97}, straight);
+        near_a_node += r.n_touching >= 2;
+        EXPECT_NEAR(r.energy, 0.5 * k * 0.03 * 0.03, 1e-12) << "at " << a;
+        EXPECT_NEAR(r.residual[0], 0.0, 1e-9) << "at " << a;
+        EXPECT_NEAR(r.residual[1], -k * 0.03, 1e-9) << "at " << a;
+      }
+    EXPECT_GT(near_a_node, 40);
+    // Outer side of a bend (the wire turns away from p): near the node p
+    // feels the node alone.
+    const double beta = 0.15;
+    const std::vector<Vec2> bent{{-2 * std::cos(beta), -2 * std::sin(beta)},
+                                 {-std::cos(beta), -std::sin(beta)},
+                                 {0, 0},
+                                 {std::cos(beta), -std::sin(beta)},
+                                 {2 * std::cos(beta), -2 * std::sin(beta)}};
+    for (const Vec2 p : {Vec2{0.0, 0.96}, Vec2{0.05, 0.95}, Vec2{-0.1, 0.9}})
+      {
+        const auto r = stretch_contact(p, bent);
+        const double g = 1.0 - norm(p);
+        EXPECT_NEAR(r.energy, 0.5 * k * g * g, 1e-12);
+        EXPECT_NEAR(r.residual[0], -k * g * p.x / norm(p), 1e-9);
+        EXPECT_NEAR(r.residual[1], -k * g * p.y / norm(p), 1e-9);
+      }
+  }
+
+  TEST(FemContact, TheForceOfAStretchIsSmoothInTheCreaseOfABend)
+  {
+    // p on the inner side of a wire bent by 0.3 at node 2, on the bisector
+    // of the crease and just beside it, at two depths (the node itself
+    // within reach and not).
+    const double beta = 0.15, h = 1e-7;
+    const std::vector<Vec2> wire{{-2 * std::cos(beta), 2 * std::sin(beta)},
+                                 {-std::cos(beta), std::sin(beta)},
+                                 {0, 0},
+                                 {std::cos(beta), std::sin(beta)},
+                                 {2 * std::cos(beta), 2 * std::sin(beta)}};
+    for (const double gap : {0.97, 0.995})
+      {
+        const double y = gap / std::cos(beta);
+        const auto left = stretch_contact({-1e-9, y}, wire), right = stretch_contact({1e-9, y}, wire);
+        const double f = std::hypot(left.residual[0], left.residual[1]);
+        ASSERT_GT(f, 0.0);
+        EXPECT_LT(std::hypot(left.residual[0] - right.residual[0], left.residual[1] - right.residual[1]),
+                  1e-6 * f)
+            << "the force on p jumps across the crease";
+        // The rule that keeps the nearest segment only: its force on p turns
+        // by the bend's angle across the crease (what the test guards).
+        fem::ContactContribution a, b;
+        double t;
+        ASSERT_TRUE(fem::point_segment_contact(settings(false), 0.5, {{{-1e-9, y}, wire[1], wire[2]}}, {},
+                                               0.0, a, t));
+        ASSERT_TRUE(
+            fem::point_segment_contact(settings(false), 0.5, {{{1e-9, y}, wire[2], wire[3]}}, {}, 0.0, b, t));
+        EXPECT_GT(std::hypot(a.residual[0] - b.residual[0], a.residual[1] - b.residual[1]),
+                  0.2 * a.normal_force);
+
+        // Residual: the gradient of the energy; tangent: the derivative of
+        // the residual, in all 12 coordinates, on and beside the bisector,
+        // without friction and with it.
+        for (const double off : {0.0, 0.02, -0.05})
+          for (const bool friction : {false, true})
             {
-              const double h = 1e-7;
-              auto xp = x, xm = x;
-              (j % 2 ? xp[j / 2].y : xp[j / 2].x) += h;
-              (j % 2 ? xm[j / 2].y : xm[j / 2].x) -= h;
-              ASSERT_TRUE(fem::segment_contact(settings(friction), 1.0, xp, v0, c, cp));
-              ASSERT_TRUE(fem::segment_contact(settings(friction), 1.0, xm, v0, c, cm));
-              for (int i = 0; i < 8; ++i)
-                EXPECT_NEAR((cp.residual[i] - cm.residual[i]) / (2 * h), cc.tangent[i * 8 + j],
-                            1e-5 * std::abs(cc.tangent[i * 8 + j]) + 1e-5);
-              if (!friction)
+              const Vec2 p{off, y};
+              std::vector<Vec2> v0{{0.001, -0.002}, {0.0, 0.001}, {0.002, 0.0}, {-0.001, 0.0}, {0.0, 0.0}};
+              const auto r = stretch_contact(p, wire, friction, v0);
+              const int nd = static_cast<int>(r.residual.size());
+              for (int j = 0; j < nd; ++j)
                 {
-                  EXPECT_NEAR((cp.energy - cm.energy) / (2 * h), cc.residual[j], 1e-6 * cc.normal_force);
+                  auto pp = p, pm = p;
+                  auto wp = wire, wm = wire;
+                  const auto bump = [j](Vec2 &q, std::vector<Vec2> &w, const double d) {
+                    Vec2 &c = j < 2 ? q : w[j / 2 - 1];
+                    (j % 2 ? c.y : c.x) += d;
+                  };
+                  bump(pp, wp, h);
+                  bump(pm, wm, -h);
+                  const auto rp = stretch_contact(pp, wp, friction, v0),
+                             rm = stretch_contact(pm, wm, friction, v0);
+                  if (!friction)
+                    {
+                      EXPECT_NEAR((rp.energy - rm.energy) / (2 * h), r.residual[j], 1e-6 * f)
+                          << "gap " << gap << " offset " << off << " coordinate " << j;
+                    }
+                  for (int i = 0; i < nd; ++i)
+                    EXPECT_NEAR((rp.residual[i] - rm.residual[i]) / (2 * h), r.tangent[i * nd + j],
+                                1e-5 * std::abs(r.tangent[i * nd + j]) + 1e-4)
+                        << "gap " << gap << " offset " << off << " friction " << friction << " (" << i << ", "
+                        << j << ")";
                 }
             }
-        }
+      }
   }
 
   // A point of mass m pressed against the wall by P and pulled along it by

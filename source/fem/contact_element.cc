@@ -230,66 +230,130 @@ namespace wirefem::fem
     return true;
   }
 
+  namespace
+  {
+    /// Point x[0] against the segment x[1]-x[2] (n = 3) or the point x[1]
+    /// (n = 2): penalty on the overlap with the closest point q, regularised
+    /// friction on the relative velocity of x[0] and q.
+    bool point_contact(const ContactSettings &s, const double weight, const int n, const Vec2 *x,
+                       const Vec2 *v0, const double c, ContactContribution &out, double &t_out,
+                       const double friction_scale)
+    {
+      const int nd = 2 * n;
+      out = ContactContribution{};
+      out.n_points = n;
+      P<Fad> p[3];
+      for (int m = 0; m < n; ++m)
+        p[m] = {Fad(nd, 2 * m, x[m].x), Fad(nd, 2 * m + 1, x[m].y)};
+      Fad t = 0.0, dx = 0.0, dy = 0.0;
+      if (n == 3)
+        {
+          dx = p[2].x - p[1].x, dy = p[2].y - p[1].y;
+          t = ((p[0].x - p[1].x) * dx + (p[0].y - p[1].y) * dy) / (dx * dx + dy * dy);
+          if (t.val() <= 0.0)
+            t = 0.0;
+          else if (t.val() >= 1.0)
+            t = 1.0;
+        }
+      t_out = t.val();
+      const Fad qx = p[1].x + t * dx, qy = p[1].y + t * dy;
+      const Fad ex = p[0].x - qx, ey = p[0].y - qy;
+      const Fad dist = sqrt(ex * ex + ey * ey);
+      if (dist.val() >= s.diameter)
+        return false;
+      out.overlap = s.diameter - dist.val();
+      if (dist.val() < 1e-12 * s.diameter)
+        return false;
+      const Fad nx = ex / dist, ny = ey / dist; // from q towards the point
+      const double k = s.stiffness * weight;
+      const Fad g = s.diameter - dist;
+      const Fad fn = k * g;
+      // Force on the point +fn n, on the segment ends -(1-t) fn n and -t fn n
+      // (on x[1] -fn n when it is a point).
+      const Fad fx = fn * nx, fy = fn * ny;
+      Fad ffx = 0.0, ffy = 0.0;
+      if (s.friction)
+        {
+          const auto vel = [&](const int m, const bool y) -> Fad {
+            return c * (y ? p[m].y : p[m].x) + (y ? v0[m].y : v0[m].x);
+          };
+          const Fad tx = -ny, ty = nx;
+          Fad vqx = vel(1, false), vqy = vel(1, true);
+          if (n == 3)
+            {
+              vqx = (1.0 - t) * vqx + t * vel(2, false);
+              vqy = (1.0 - t) * vqy + t * vel(2, true);
+            }
+          const Fad ft =
+              friction_force<Fad>(s, fn, Fad((vel(0, false) - vqx) * tx + (vel(0, true) - vqy) * ty));
+          ffx = ft * tx;
+          ffy = ft * ty;
+        }
+      const Fad share[3] = {Fad(1.0), n == 3 ? Fad(-(1.0 - t)) : Fad(-1.0), -t};
+      for (int m = 0; m < n; ++m)
+        {
+          const Fad rfx = -share[m] * ffx, rfy = -share[m] * ffy;
+          const Fad rx = -share[m] * fx + rfx, ry = -share[m] * fy + rfy;
+          out.residual[2 * m] = rx.val();
+          out.residual[2 * m + 1] = ry.val();
+          out.friction_residual[2 * m] = rfx.val();
+          out.friction_residual[2 * m + 1] = rfy.val();
+          for (int j = 0; j < nd; ++j)
+            {
+              out.tangent[(2 * m) * nd + j] = rx.dx(j) + (friction_scale - 1.0) * rfx.dx(j);
+              out.tangent[(2 * m + 1) * nd + j] = ry.dx(j) + (friction_scale - 1.0) * rfy.dx(j);
+            }
+        }
+      out.normal_force = fn.val();
+      out.energy = 0.5 * k * g.val() * g.val();
+      return true;
+    }
+  } // namespace
+
   bool point_segment_contact(const ContactSettings &s, const double weight, const std::array<Vec2, 3> &x,
                              const std::array<Vec2, 3> &v0, const double c, ContactContribution &out,
                              double &t_out, const double friction_scale)
   {
-    out = ContactContribution{};
-    out.n_points = 3;
-    P<Fad> p[3];
-    for (int m = 0; m < 3; ++m)
-      p[m] = {Fad(6, 2 * m, x[m].x), Fad(6, 2 * m + 1, x[m].y)};
-    const Fad dx = p[2].x - p[1].x, dy = p[2].y - p[1].y;
-    Fad t = ((p[0].x - p[1].x) * dx + (p[0].y - p[1].y) * dy) / (dx * dx + dy * dy);
-    if (t.val() <= 0.0)
-      t = 0.0;
-    else if (t.val() >= 1.0)
-      t = 1.0;
-    t_out = t.val();
-    const Fad qx = p[1].x + t * dx, qy = p[1].y + t * dy;
-    const Fad ex = p[0].x - qx, ey = p[0].y - qy;
-    const Fad dist = sqrt(ex * ex + ey * ey);
-    if (dist.val() >= s.diameter)
+    return point_contact(s, weight, 3, x.data(), v0.data(), c, out, t_out, friction_scale);
+  }
+
+  bool point_point_contact(const ContactSettings &s, const double weight, const std::array<Vec2, 2> &x,
+                           const std::array<Vec2, 2> &v0, const double c, ContactContribution &out,
+                           const double friction_scale)
+  {
+    double t;
+    return point_contact(s, weight, 2, x.data(), v0.data(), c, out, t, friction_scale);
+  }
+
+  bool point_stretch_contact(const ContactSettings &s, const double weight, const std::array<Vec2, 3> &x,
+                             const std::array<Vec2, 3> &v0, const double c, const bool next_presses,
+                             ContactContribution &out, double &t, double &vertex_force,
+                             const double friction_scale)
+  {
+    vertex_force = 0.0;
+    if (!point_segment_contact(s, weight, x, v0, c, out, t, friction_scale))
       return false;
-    out.overlap = s.diameter - dist.val();
-    if (dist.val() < 1e-12 * s.diameter)
-      return false;
-    const Fad nx = ex / dist, ny = ey / dist; // from the segment towards the point
-    const double k = s.stiffness * weight;
-    const Fad g = s.diameter - dist;
-    const Fad fn = k * g;
-    // Force on the point +fn n, on the segment ends -(1-t) fn n and -t fn n.
-    const Fad fx = fn * nx, fy = fn * ny;
-    Fad ffx = 0.0, ffy = 0.0;
-    if (s.friction)
-      {
-        const Fad tx = -ny, ty = nx;
-        const Fad vpx = c * p[0].x + v0[0].x, vpy = c * p[0].y + v0[0].y;
-        const Fad vqx = (1.0 - t) * (c * p[1].x + v0[1].x) + t * (c * p[2].x + v0[2].x);
-        const Fad vqy = (1.0 - t) * (c * p[1].y + v0[1].y) + t * (c * p[2].y + v0[2].y);
-        const Fad ft = friction_force<Fad>(s, fn, Fad((vpx - vqx) * tx + (vpy - vqy) * ty));
-        ffx = ft * tx;
-        ffy = ft * ty;
-      }
-    const Fad share[3] = {Fad(1.0), -(1.0 - t), -t};
-    for (int m = 0; m < 3; ++m)
-      {
-        const Fad rfx = -share[m] * ffx, rfy = -share[m] * ffy;
-        const Fad rx = -share[m] * fx + rfx, ry = -share[m] * fy + rfy;
-        out.residual[2 * m] = rx.val();
-        out.residual[2 * m + 1] = ry.val();
-        out.friction_residual[2 * m] = rfx.val();
-        out.friction_residual[2 * m + 1] = rfy.val();
-        for (int j = 0; j < 6; ++j)
-          {
-            out.tangent[(2 * m) * 6 + j] = rx.dx(j) + (friction_scale - 1.0) * rfx.dx(j);
-            out.tangent[(2 * m + 1) * 6 + j] = ry.dx(j) + (friction_scale - 1.0) * rfy.dx(j);
-          }
-      }
-    out.normal_force = fn.val();
-    out.energy = 0.5 * k * g.val() * g.val();
+    ContactContribution vc;
+    if (!next_presses ||
+        !point_point_contact(s, weight, {{x[0], x[2]}}, {{v0[0], v0[2]}}, c, vc, friction_scale))
+      return true;
+    // vc acts on points 0 and 2 of out.
+    const int ids[2] = {0, 2};
+    for (int m = 0; m < 2; ++m)
+      for (int cm = 0; cm < 2; ++cm)
+        {
+          const int i = 2 * ids[m] + cm;
+          out.residual[i] -= vc.residual[2 * m + cm];
+          out.friction_residual[i] -= vc.friction_residual[2 * m + cm];
+          for (int n = 0; n < 2; ++n)
+            for (int cn = 0; cn < 2; ++cn)
+              out.tangent[i * 6 + 2 * ids[n] + cn] -= vc.tangent[(2 * m + cm) * 4 + 2 * n + cn];
+        }
+    out.energy -= vc.energy;
+    vertex_force = vc.normal_force;
     return true;
   }
+
   bool channel_wall_element(const std::vector<double> &pos, const double h, const double k, const double *X,
                             const Vec2 &ax, double &U, double *grad, double *tangent)
   {

@@ -716,34 +716,38 @@ namespace wirefem::fem
         // them (segment-to-segment closest points jump between end points
         // of nearly parallel segments, which stalls Newton). Each direction
         // carries half the penalty, so two parallel wires feel k_n per unit
-        // length. Of the segments of one stretch of wire only the one
-        // nearest to the node presses it (contact::nearest_of_stretch).
+        // length. A node pressed by a stretch of wire feels it once, with a
+        // force continuously differentiable in every position
+        // (point_stretch_contact: every segment within reach presses it,
+        // less the nodes shared by two of them).
         const int first_segment = first - 1, last_segment = last + 1 - 2; // nodes [first - 1, last + 1)
-        const auto at = [&](const int k) { return position(u1, k); };
         const double fs = c_force > 0 ? 1.0 / c_force : 1.0;
+        const auto at = [&](const int k) { return position(u1, k); };
+        const auto allowed = [&](const int node, const int s) {
+          return s >= first_segment && s <= last_segment && std::abs(s - node) > exclusion;
+        };
         for (const auto &pr : broad.candidates())
           for (const bool a_on_b : {true, false})
             {
               const int node = a_on_b ? pr.i : pr.j, seg = a_on_b ? pr.j : pr.i;
-              const std::array<Vec2, 3> x{{position(u1, node), position(u1, seg), position(u1, seg + 1)}};
+              const std::array<Vec2, 3> x{{at(node), at(seg), at(seg + 1)}};
               const std::array<Vec2, 3> w0{{vel0(node), vel0(seg), vel0(seg + 1)}};
-              double tc;
-              const bool touch =
-                  point_segment_contact(self_settings, 0.5 * node_weight(node), x, w0, c_vel, cc, tc, fs);
-              if (touch && !contact::nearest_of_stretch(
-                               x[0], seg, contact::closest_on_segment(x[0], x[1], x[2]).distance2, at,
-                               [&](const int s) {
-                                 return s >= first_segment && s <= last_segment &&
-                                        std::abs(s - node) > exclusion;
-                               }))
-                continue;
+              double tc, fv;
+              const bool touch = point_stretch_contact(self_settings, 0.5 * node_weight(node), x, w0, c_vel,
+                                                       allowed(node, seg + 1), cc, tc, fv, fs);
               e.max_overlap = std::max(e.max_overlap, cc.overlap);
               if (!touch)
                 continue;
               add_contact({node, seg, seg + 1});
-              e.node_contact_force[node] += cc.normal_force;
+              e.node_contact_force[node] += cc.normal_force - fv;
               e.node_contact_force[seg] += (1.0 - tc) * cc.normal_force;
-              e.node_contact_force[seg + 1] += tc * cc.normal_force;
+              e.node_contact_force[seg + 1] += tc * cc.normal_force - fv;
+              // The contact network lists the nearest segment of each
+              // stretch, as the discrete model's.
+              if (!contact::nearest_of_stretch(x[0], seg,
+                                               contact::closest_on_segment(x[0], x[1], x[2]).distance2, at,
+                                               [&](const int s) { return allowed(node, s); }))
+                continue;
               if (a_on_b)
                 e.pairs.push_back({node, seg, 0.0, tc, cc.normal_force});
               else

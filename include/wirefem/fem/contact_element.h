@@ -93,6 +93,33 @@ namespace wirefem::fem
                              const std::array<geometry::Vec2, 3> &v0, double c, ContactContribution &out,
                              double &t, double friction_scale = 1.0);
 
+  /// Point x[0] against point x[1]: the penalty and friction of
+  /// point_segment_contact for a segment shrunk to the point x[1]. Returns
+  /// false when they are d or
+  /// more apart (or coincide). Residual and tangent cover the 4 coordinates.
+  bool point_point_contact(const ContactSettings &s, double weight, const std::array<geometry::Vec2, 2> &x,
+                           const std::array<geometry::Vec2, 2> &v0, double c, ContactContribution &out,
+                           double friction_scale = 1.0);
+
+  /// Self contact of a point with a stretch of wire, the share of one
+  /// segment: point x[0] against the segment x[1]-x[2] (point_segment_contact)
+  /// less, when `next_presses` (the segment after it, from x[2] on, may press
+  /// the point too), the contact of x[0] with the shared node x[2] alone
+  /// (point_point_contact). Summed over the segments of a stretch, a point
+  /// facing its straight part or its outer side feels exactly its contact
+  /// with the nearest point of the stretch, and the sum is continuously
+  /// differentiable wherever the point is: in the crease on the inner side
+  /// of a bend both segments press it, less what the node alone would (a
+  /// rule that keeps only the nearest segment turns the force by the bend's
+  /// angle across the crease). t: the segment parameter of the closest
+  /// point; vertex_force: the normal force of the node term taken away (0
+  /// when none). out.normal_force and out.overlap are the segment's own.
+  /// Returns false when the point does not touch the segment.
+  bool point_stretch_contact(const ContactSettings &s, double weight, const std::array<geometry::Vec2, 3> &x,
+                             const std::array<geometry::Vec2, 3> &v0, double c, bool next_presses,
+                             ContactContribution &out, double &t, double &vertex_force,
+                             double friction_scale = 1.0);
+
   /// Segment a0-a1 against segment b0-b1 (points 0..3 in that order). In the
   /// plane the closest points of two segments that do not cross always
   /// involve an end point; the case is chosen from the current positions.
