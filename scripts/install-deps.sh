@@ -6,6 +6,7 @@ packages=(
   cmake g++ make pkg-config
   libdeal.ii-dev          # deal.II 9.4 with Trilinos, MPI, CGAL, GSL, UMFPACK, SUNDIALS
   libcgal-dev libeigen3-dev libgsl-dev
+  libsuitesparse-dev      # KLU for the rod FEM's linear solves
   libcairo2-dev           # final.png / final.svg
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libbenchmark-dev

@@ -4,6 +4,7 @@
 #include <wirefem/fem/contact_element.h>
 #include <wirefem/fem/rod_element.h>
 #include <wirefem/fem/rod_model.h>
+#include <wirefem/fem/sparse_direct.h>
 #include <wirefem/injection/channels.h>
 #include <wirefem/injection/inlet.h>
 #include <wirefem/io/binary.h>
@@ -17,10 +18,8 @@
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/sparsity_pattern.h>
-#include <deal.II/lac/trilinos_solver.h>
-#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
 #include <fmt/format.h>
@@ -106,7 +105,13 @@ namespace wirefem::fem
     contact::BroadPhase broad;
     int exclusion = 1;
     dealii::SparsityPattern sparsity;
-    dealii::TrilinosWrappers::SparseMatrix K;
+    dealii::SparseMatrix<double> K;
+    /// K's LU (KLU): analysed once per pattern, refactorised per iteration.
+    SparseDirect lu;
+    std::vector<int> lu_order; ///< entry of K (storage order) for each entry of the sorted CSR
+    std::vector<double> lu_values;
+    /// Factorises K and solves K x = rhs; false when K is singular.
+    bool solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
     int sp_first = -1, sp_last = -1;
     std::vector<contact::SegmentPair> sp_pairs;
 
@@ -429,9 +434,8 @@ namespace wirefem::fem
         dealii::Vector<double> rhs(3 * (last_free - first_free)), x(rhs.size());
         for (unsigned int i = 0; i < rhs.size(); ++i)
           rhs[i] = -e.force[3 * first_free + i];
-        dealii::SolverControl control(1, 0);
-        dealii::TrilinosWrappers::SolverDirect solver(control);
-        solver.solve(K, x, rhs);
+        if (!solve_linear(rhs, x))
+          throw std::runtime_error("the mass matrix of the initial wire is singular");
         for (unsigned int i = 0; i < x.size(); ++i)
           a[3 * first_free + i] = x[i];
         f_old = e.force;
@@ -441,6 +445,29 @@ namespace wirefem::fem
     // The strains of the initial shape are the reference of the first rates.
     qp = e.state;
     ledger.initial = e.axial + e.shear + e.bending;
+  }
+
+  bool RodModel::Impl::solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x)
+  {
+    // K's values in storage order, row by row, as rebuild_sparsity numbered them.
+    std::vector<double> stored(lu_values.size());
+    std::size_t k = 0;
+    for (unsigned int i = 0; i < K.m(); ++i)
+      for (auto it = K.begin(i); it != K.end(i); ++it)
+        stored[k++] = it->value();
+    for (std::size_t j = 0; j < lu_order.size(); ++j)
+      lu_values[j] = stored[lu_order[j]];
+    if (!lu.factorise(lu_values))
+      return false;
+    std::vector<double> b(rhs.begin(), rhs.end()), y;
+    if (!lu.solve(b, y))
+      return false;
+    for (unsigned int i = 0; i < x.size(); ++i)
+      x[i] = y[i];
+    for (const double v : y)
+      if (!std::isfinite(v))
+        return false;
+    return true;
   }
 
   void RodModel::Impl::nodes_between(const double sl, const double sr, int &first, int &last) const
@@ -513,6 +540,27 @@ namespace wirefem::fem
       couple({pr.i, pr.i + 1, pr.j, pr.j + 1});
     sparsity.copy_from(dsp);
     K.reinit(sparsity);
+    // Sorted rows for KLU (deal.II keeps the diagonal first in each row).
+    const int nr = static_cast<int>(sparsity.n_rows());
+    std::vector<int> row_start(nr + 1, 0), columns;
+    lu_order.clear();
+    std::vector<std::pair<int, int>> row;
+    int entry = 0;
+    for (int i = 0; i < nr; ++i)
+      {
+        row.clear();
+        for (auto it = sparsity.begin(i); it != sparsity.end(i); ++it)
+          row.emplace_back(static_cast<int>(it->column()), entry++);
+        std::sort(row.begin(), row.end());
+        for (const auto &[col, at] : row)
+          {
+            columns.push_back(col);
+            lu_order.push_back(at);
+          }
+        row_start[i + 1] = static_cast<int>(columns.size());
+      }
+    lu_values.resize(columns.size());
+    lu.analyse(nr, std::move(row_start), std::move(columns));
     sp_first = first;
     sp_last = last;
     sp_pairs = broad.candidates();
@@ -754,8 +802,6 @@ namespace wirefem::fem
                 e.pairs.push_back({seg, node, tc, 0.0, cc.normal_force});
             }
       }
-    if (want_tangent)
-      K.compress(dealii::VectorOperation::add);
   }
 
   double RodModel::Impl::kinetic_energy(const dealii::Vector<double> &vel, const int first,
@@ -866,8 +912,6 @@ namespace wirefem::fem
     history.clear();
     Evaluation e, trial;
     dealii::Vector<double> rhs(nw), dx(nw);
-    dealii::SolverControl control(1, 0);
-    dealii::TrilinosWrappers::SolverDirect solver(control);
     kinematics();
     evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, e);
     if (check_tangent)
@@ -915,15 +959,11 @@ namespace wirefem::fem
           return false;
         for (int i = 0; i < nw; ++i)
           rhs[i] = -(e.residual[lo + i] + alpha_f * f_old[lo + i]);
-        try
-          {
-            dealii::TimerOutput::Scope ts(timer, "linear solve");
-            solver.solve(K, dx, rhs);
-          }
-        catch (const std::exception &)
-          {
+        {
+          dealii::TimerOutput::Scope ts(timer, "linear solve");
+          if (!solve_linear(rhs, dx))
             return false;
-          }
+        }
         // Full Newton update, with the tangent there; if the residual does
         // not drop, backtrack (Armijo on the max norm) and re-linearise.
         const dealii::Vector<double> u_start(u1);
@@ -1311,5 +1351,10 @@ namespace wirefem::fem
     out << impl->timer_stream.str();
     impl->timer_stream.str("");
     out << fmt::format("Newton step cuts: {}\n", impl->cuts);
+    const auto &ls = impl->lu.statistics();
+    out << fmt::format(
+        "linear solves: {} (patterns analysed {}, full factorisations {}, refactorisations {}, "
+        "refactorisations redone for accuracy {})\n",
+        ls.solves, ls.analyses, ls.factorisations, ls.refactorisations, ls.inaccurate);
   }
 } // namespace wirefem::fem

@@ -1,0 +1,54 @@
+// Sparse LU of the rod's tangent with KLU (SuiteSparse): the fill-reducing
+// ordering and symbolic analysis once per sparsity pattern, and later
+// factorisations of the same pattern with the pivot order of the last full
+// one (KLU's refactorisation), falling back to a full factorisation when
+// the result is not accurate. The matrix is given by rows (CSR), the
+// values in the pattern's order. SuiteSparse stays in the .cc file.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+namespace wirefem::fem
+{
+  class SparseDirect
+  {
+  public:
+    SparseDirect();
+    ~SparseDirect();
+    SparseDirect(const SparseDirect &) = delete;
+    SparseDirect &operator=(const SparseDirect &) = delete;
+
+    /// A new pattern: n rows, row_start (n + 1 entries) and the column of
+    /// each entry. Orders and analyses it; drops any factorisation.
+    void analyse(int n, std::vector<int> row_start, std::vector<int> columns);
+
+    /// Whether the pattern is that of the last analyse().
+    bool same_pattern(const std::vector<int> &row_start, const std::vector<int> &columns) const;
+
+    /// Factorises the matrix with these values (one per entry of the
+    /// pattern). Returns false when it is singular.
+    bool factorise(const std::vector<double> &values);
+
+    /// Solves A x = b for the last factorisation. When the residual
+    /// |b - A x| exceeds 1e-10 |b| (max norms) after a refactorisation, the
+    /// matrix is factorised afresh with pivoting and solved again. Returns
+    /// false when the matrix is singular.
+    bool solve(const std::vector<double> &b, std::vector<double> &x);
+
+    struct Statistics
+    {
+      unsigned long analyses = 0;
+      unsigned long factorisations = 0;   ///< full, with pivoting
+      unsigned long refactorisations = 0; ///< with the pivot order kept
+      unsigned long solves = 0;
+      unsigned long inaccurate = 0; ///< refactorisations redone for accuracy
+    };
+    const Statistics &statistics() const { return stats; }
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+    Statistics stats;
+  };
+} // namespace wirefem::fem

@@ -1,0 +1,135 @@
+// The KLU wrapper of the rod FEM: solutions against a known answer, the
+// refactorisation path and its fall-back to a full factorisation, and a
+// singular matrix refused.
+#include <wirefem/fem/sparse_direct.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <vector>
+
+namespace
+{
+  using wirefem::fem::SparseDirect;
+
+  // A rod-like pattern: 3 x 3 blocks of each node with its neighbours, and
+  // a few couplings between distant nodes (contacts); rows sorted.
+  struct Pattern
+  {
+    int n = 0;
+    std::vector<int> row_start, columns;
+  };
+
+  Pattern rod_pattern(const int nodes, std::mt19937 &gen)
+  {
+    std::vector<std::set<int>> rows(3 * nodes);
+    auto couple = [&](int a, int b) {
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          {
+            rows[3 * a + i].insert(3 * b + j);
+            rows[3 * b + j].insert(3 * a + i);
+          }
+    };
+    for (int k = 0; k < nodes; ++k)
+      {
+        couple(k, k);
+        if (k + 1 < nodes)
+          couple(k, k + 1);
+      }
+    std::uniform_int_distribution<int> node(0, nodes - 1);
+    for (int c = 0; c < nodes / 5; ++c)
+      couple(node(gen), node(gen));
+    Pattern p;
+    p.n = 3 * nodes;
+    p.row_start.push_back(0);
+    for (const auto &r : rows)
+      {
+        p.columns.insert(p.columns.end(), r.begin(), r.end());
+        p.row_start.push_back(static_cast<int>(p.columns.size()));
+      }
+    return p;
+  }
+
+  // Unsymmetric values, diagonally dominant.
+  std::vector<double> values(const Pattern &p, std::mt19937 &gen)
+  {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<double> v(p.columns.size());
+    for (int i = 0; i < p.n; ++i)
+      for (int k = p.row_start[i]; k < p.row_start[i + 1]; ++k)
+        v[k] = p.columns[k] == i ? 20.0 + u(gen) : u(gen);
+    return v;
+  }
+
+  std::vector<double> multiply(const Pattern &p, const std::vector<double> &v, const std::vector<double> &x)
+  {
+    std::vector<double> b(p.n, 0.0);
+    for (int i = 0; i < p.n; ++i)
+      for (int k = p.row_start[i]; k < p.row_start[i + 1]; ++k)
+        b[i] += v[k] * x[p.columns[k]];
+    return b;
+  }
+
+  double max_error(const std::vector<double> &a, const std::vector<double> &b)
+  {
+    double e = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      e = std::max(e, std::abs(a[i] - b[i]));
+    return e;
+  }
+
+  TEST(SparseDirect, SolvesARodLikeSystemAndRefactorisesWithTheSamePattern)
+  {
+    std::mt19937 gen(3);
+    const auto p = rod_pattern(200, gen);
+    SparseDirect lu;
+    lu.analyse(p.n, p.row_start, p.columns);
+    EXPECT_TRUE(lu.same_pattern(p.row_start, p.columns));
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<double> x_true(p.n), x;
+    for (auto &xi : x_true)
+      xi = u(gen);
+    for (int round = 0; round < 3; ++round)
+      {
+        const auto v = values(p, gen);
+        ASSERT_TRUE(lu.factorise(v));
+        ASSERT_TRUE(lu.solve(multiply(p, v, x_true), x));
+        EXPECT_LT(max_error(x, x_true), 1e-12) << "round " << round;
+      }
+    EXPECT_EQ(lu.statistics().analyses, 1u);
+    EXPECT_EQ(lu.statistics().factorisations, 1u);
+    EXPECT_EQ(lu.statistics().refactorisations, 2u);
+    EXPECT_EQ(lu.statistics().solves, 3u);
+  }
+
+  TEST(SparseDirect, FallsBackToPivotingWhenTheKeptPivotsFail)
+  {
+    // A full 2 x 2 pattern: first with a dominant diagonal, then with a zero
+    // one, where the first pivot order divides by zero.
+    const std::vector<int> row_start{0, 2, 4}, columns{0, 1, 0, 1};
+    SparseDirect lu;
+    lu.analyse(2, row_start, columns);
+    std::vector<double> x;
+    ASSERT_TRUE(lu.factorise({4.0, 1.0, 1.0, 3.0}));
+    ASSERT_TRUE(lu.solve({5.0, 4.0}, x));
+    EXPECT_NEAR(x[0], 1.0, 1e-14);
+    EXPECT_NEAR(x[1], 1.0, 1e-14);
+    ASSERT_TRUE(lu.factorise({0.0, 2.0, 3.0, 1e-9}));
+    ASSERT_TRUE(lu.solve({2.0, 3.0}, x));
+    EXPECT_NEAR(x[0], 1.0 - 1e-9 / 3.0, 1e-12);
+    EXPECT_NEAR(x[1], 1.0, 1e-12);
+    EXPECT_GE(lu.statistics().factorisations, 2u) << "the kept pivot order was used on a zero pivot";
+  }
+
+  TEST(SparseDirect, RefusesASingularMatrix)
+  {
+    const std::vector<int> row_start{0, 2, 4}, columns{0, 1, 0, 1};
+    SparseDirect lu;
+    lu.analyse(2, row_start, columns);
+    EXPECT_FALSE(lu.factorise({1.0, 2.0, 2.0, 4.0}));
+  }
+} // namespace
