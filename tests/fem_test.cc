@@ -220,6 +220,35 @@ namespace
       }
   }
 
+  TEST(RodElement, HandDerivedTangentAgreesWithAutomaticDifferentiation)
+  {
+    std::mt19937 gen(11);
+    for (unsigned int p = 1; p <= 3; ++p)
+      for (int trial = 0; trial < 20; ++trial)
+        {
+          const auto shape = fem::ElementShape::lagrange(p, 0.8, p);
+          const auto dofs = random_dofs(shape, gen, 0.3);
+          const auto old = random_states(p, gen);
+          for (const auto &law : {material::MomentCurvatureLaw(60.0), plastic_law(0.01)})
+            for (const double dt : {0.0, 0.05})
+              for (const double viscous_scale : {1.0, 0.3})
+                {
+                  fem::ElementResult r;
+                  fem::evaluate_rod_element(shape, section(3.0, 0.5), law, dofs.data(), old.data(), dt, true,
+                                            r, viscous_scale);
+                  const auto ad = fem::rod_element_tangent_by_ad(shape, section(3.0, 0.5), law, dofs.data(),
+                                                                 old.data(), dt, viscous_scale);
+                  double largest = 0.0, worst = 0.0;
+                  for (std::size_t i = 0; i < ad.size(); ++i)
+                    {
+                      largest = std::max(largest, std::abs(ad[i]));
+                      worst = std::max(worst, std::abs(ad[i] - r.tangent[i]));
+                    }
+                  EXPECT_LT(worst, 1e-10 * largest) << "p = " << p << ", dt = " << dt;
+                }
+        }
+  }
+
   TEST(RodElement, RigidRotationBy90DegreesGivesNoStrainAndNoForce)
   {
     for (unsigned int p = 1; p <= 3; ++p)

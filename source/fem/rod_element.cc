@@ -5,6 +5,7 @@
 
 #include <Sacado.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -148,6 +149,63 @@ namespace wirefem::fem
             }
         }
     }
+
+    /// The derivative of the residual (viscous part weighted by
+    /// viscous_scale), derived by hand. With the strain operators
+    /// B_eps = d eps / du, B_gamma = d gamma / du, B_kappa = d kappa / du:
+    ///   K = sum_q w [ N' B_eps B_eps^T + GA B_gamma B_gamma^T + M' B_kappa B_kappa^T
+    ///                 + N d B_eps / du + Q d B_gamma / du ]
+    /// with N' = EA + viscous_scale eta_a / dt, M' the law's algorithmic
+    /// tangent + viscous_scale eta_b / dt, and the geometric terms from
+    /// d (c, s) / d theta and d eps / d theta = gamma N_a, d gamma / d theta = -(1 + eps) N_a.
+    void tangent(const ElementShape &shape, const SectionProperties &section,
+                 const material::MomentCurvatureLaw &law, const double *u, const PointState *old,
+                 const double dt, const double viscous_scale, double *K)
+    {
+      const unsigned int nn = shape.n_nodes, n = 3 * nn;
+      std::fill(K, K + n * n, 0.0);
+      double be[12], bg[12], bk[12];
+      for (unsigned int q = 0; q < shape.n_q; ++q)
+        {
+          const auto k = kinematics(shape, q, u);
+          const auto m = law.evaluate(k.kappa, old[q].plastic);
+          double N = section.EA * k.eps, dN = section.EA, dM = m.tangent;
+          const double Q = section.GA * k.gamma;
+          if (dt > 0.0)
+            {
+              N += viscous_scale * section.axial_viscosity / dt * (k.eps - old[q].axial_strain);
+              dN += viscous_scale * section.axial_viscosity / dt;
+              dM += viscous_scale * section.bending_viscosity / dt;
+            }
+          for (unsigned int a = 0; a < nn; ++a)
+            {
+              const double Na = shape.value(q, a), dNa = shape.derivative(q, a);
+              be[3 * a] = k.c * dNa, be[3 * a + 1] = k.s * dNa, be[3 * a + 2] = k.gamma * Na;
+              bg[3 * a] = -k.s * dNa, bg[3 * a + 1] = k.c * dNa, bg[3 * a + 2] = -(1.0 + k.eps) * Na;
+              bk[3 * a] = 0.0, bk[3 * a + 1] = 0.0, bk[3 * a + 2] = dNa;
+            }
+          const double w = shape.weight[q];
+          for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int j = 0; j < n; ++j)
+              K[i * n + j] += w * (dN * be[i] * be[j] + section.GA * bg[i] * bg[j] + dM * bk[i] * bk[j]);
+          // Geometric part: d B_eps / du and d B_gamma / du.
+          for (unsigned int a = 0; a < nn; ++a)
+            {
+              const double Na = shape.value(q, a), dNa = shape.derivative(q, a);
+              for (unsigned int b = 0; b < nn; ++b)
+                {
+                  const double Nb = shape.value(q, b);
+                  const double xy = w * dNa * Nb; // (x_a or y_a, theta_b) and its transpose
+                  const double gx = -(N * k.s + Q * k.c) * xy, gy = (N * k.c - Q * k.s) * xy;
+                  K[(3 * a) * n + 3 * b + 2] += gx;
+                  K[(3 * b + 2) * n + 3 * a] += gx;
+                  K[(3 * a + 1) * n + 3 * b + 2] += gy;
+                  K[(3 * b + 2) * n + 3 * a + 1] += gy;
+                  K[(3 * a + 2) * n + 3 * b + 2] -= w * (N * (1.0 + k.eps) + Q * k.gamma) * Na * Nb;
+                }
+            }
+        }
+    }
   } // namespace
 
   void evaluate_rod_element(const ElementShape &shape, const SectionProperties &section,
@@ -164,15 +222,26 @@ namespace wirefem::fem
     out.tangent.clear();
     if (!want_tangent)
       return;
+    out.tangent.resize(n * n);
+    tangent(shape, section, law, dofs, old, dt, viscous_scale, out.tangent.data());
+  }
+
+  std::vector<double> rod_element_tangent_by_ad(const ElementShape &shape, const SectionProperties &section,
+                                                const material::MomentCurvatureLaw &law, const double *dofs,
+                                                const PointState *old, const double dt,
+                                                const double viscous_scale)
+  {
+    const unsigned int n = 3 * shape.n_nodes;
     using Fad = Sacado::Fad::SLFad<double, 12>; // at most 12 dofs (p = 3): no heap
     std::vector<Fad> u(n), r(n);
     for (unsigned int i = 0; i < n; ++i)
       u[i] = Fad(n, i, dofs[i]);
     residual<Fad>(shape, section, law, u.data(), old, dt, viscous_scale, r.data(), nullptr);
-    out.tangent.resize(n * n);
+    std::vector<double> K(n * n);
     for (unsigned int i = 0; i < n; ++i)
       for (unsigned int j = 0; j < n; ++j)
-        out.tangent[i * n + j] = r[i].dx(j);
+        K[i * n + j] = r[i].dx(j);
+    return K;
   }
 
   double rod_element_energy(const ElementShape &shape, const SectionProperties &section,

@@ -94,6 +94,12 @@ namespace wirefem::fem
                             const PointState *old, double dt, bool want_tangent, ElementResult &out,
                             double viscous_scale = 1.0);
 
+  /// The tangent of evaluate_rod_element by automatic differentiation of
+  /// the residual (Sacado): the oracle of the hand-derived tangent in tests.
+  std::vector<double> rod_element_tangent_by_ad(const ElementShape &shape, const SectionProperties &section,
+                                                const material::MomentCurvatureLaw &law, const double *dofs,
+                                                const PointState *old, double dt, double viscous_scale = 1.0);
+
   /// Stored elastic energy of the element for the given dofs and fixed
   /// plastic strains (no return mapping): the potential of the residual in
   /// the elastic range (finite-difference tests).

@@ -3,8 +3,8 @@
 // elements of degree 1-3 on a deal.II Triangulation<1,2>, the elastoplastic
 // moment-curvature law at the quadrature points, penalty contact with
 // regularised Coulomb friction, implicit generalized-alpha time stepping with
-// Newton, line search and an adaptive step, Trilinos matrices and a direct
-// solver.
+// Newton, line search and an adaptive step, a deal.II sparse matrix and
+// KLU (fem::SparseDirect).
 //
 // Injection as a moving boundary: the mesh holds the whole wire that can ever
 // enter, at rest length, with material coordinate S. At time t the material
@@ -15,7 +15,7 @@
 // work of the channel reactions per injected length, over one node spacing,
 // which cancels the periodic step of a node passing the inlet.
 //
-// deal.II and Trilinos stay in the .cc file.
+// deal.II stays in the .cc file.
 #pragma once
 
 #include <wirefem/simulation/model.h>
