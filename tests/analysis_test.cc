@@ -13,7 +13,7 @@
 namespace
 {
   using namespace wirefem;
-  using geometry::Vec2;
+  using core::Vec2;
 
   /// A centreline drawn with straight pieces and circular arcs, sampled at
   /// spacing <= h. Strands meant to touch run 0.9 d apart (contact < d).
@@ -60,9 +60,9 @@ namespace
 
     Vec2 last() const { return p.back(); }
 
-    analysis::WireState state(const bool with_contacts = true) const
+    core::WireState state(const bool with_contacts = true) const
     {
-      analysis::WireState w;
+      core::WireState w;
       w.points = p;
       w.arc_length.resize(p.size());
       for (std::size_t k = 1; k < p.size(); ++k)
@@ -260,10 +260,9 @@ namespace
   // symmetry and the spiral's winding, on shapes whose values are known.
 
   /// A wire state with the given centreline and curvature, in a cavity of radius r.
-  analysis::WireState shape(const std::vector<Vec2> &points, const std::vector<double> &curvature,
-                            const double r)
+  core::WireState shape(const std::vector<Vec2> &points, const std::vector<double> &curvature, const double r)
   {
-    analysis::WireState w;
+    core::WireState w;
     w.cavity_radius = r;
     w.points = points;
     w.curvature = curvature;
@@ -273,7 +272,7 @@ namespace
   /// The straight wire across a cavity of radius 50 through its centre, one
   /// point per d (x = -50, ..., 50), curved `inside` within the inner disc of
   /// radius 50/sqrt(2) (x = -35..35: 71 points) and `outside` beyond it.
-  analysis::WireState split_straight_wire(const double inside, const double outside)
+  core::WireState split_straight_wire(const double inside, const double outside)
   {
     const double r = 50.0;
     std::vector<Vec2> p;

@@ -16,7 +16,7 @@ namespace
   using wirefem::contact::closest_points;
   using wirefem::contact::ClosestPoints;
   using wirefem::contact::SegmentPair;
-  using wirefem::geometry::Vec2;
+  using wirefem::core::Vec2;
 
   constexpr double tol = 1e-12;
   const double two_pi = 2.0 * std::acos(-1.0);
@@ -37,7 +37,7 @@ namespace
     EXPECT_LE(c.t, 1.0);
     expect_vec_near(c.p, a0 + c.s * (a1 - a0));
     expect_vec_near(c.q, b0 + c.t * (b1 - b0));
-    EXPECT_NEAR(c.distance, wirefem::geometry::norm(c.p - c.q), tol);
+    EXPECT_NEAR(c.distance, wirefem::core::norm(c.p - c.q), tol);
   }
 
   TEST(SegmentDistance, Crossing)
@@ -197,8 +197,8 @@ namespace
         double sampled = std::numeric_limits<double>::max();
         for (int i = 0; i <= 100; ++i)
           for (int j = 0; j <= 100; ++j)
-            sampled = std::min(sampled, wirefem::geometry::norm((a0 + (i / 100.0) * (a1 - a0)) -
-                                                                (b0 + (j / 100.0) * (b1 - b0))));
+            sampled = std::min(sampled, wirefem::core::norm((a0 + (i / 100.0) * (a1 - a0)) -
+                                                            (b0 + (j / 100.0) * (b1 - b0))));
         EXPECT_LE(dist, sampled + tol);
         EXPECT_GE(dist, sampled - 0.05);
       }

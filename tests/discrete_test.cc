@@ -23,9 +23,9 @@
 namespace
 {
   using namespace wirefem;
+  using core::Vec2;
   using discrete::Chain;
   using discrete::StepEnergy;
-  using geometry::Vec2;
 
   double potential(const StepEnergy &e)
   {
@@ -395,7 +395,7 @@ namespace
     StepEnergy e0;
     term.add_forces(c, dt, e0);
     term.commit();
-    std::fill(c.f.begin(), c.f.end(), geometry::Vec2{});
+    std::fill(c.f.begin(), c.f.end(), core::Vec2{});
     // Same rates again: the full power, c sum zeta_dot^2.
     StepEnergy e;
     term.add_forces(c, dt, e);

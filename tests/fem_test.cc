@@ -26,7 +26,7 @@
 namespace
 {
   using namespace wirefem;
-  using geometry::Vec2;
+  using core::Vec2;
 
   material::MomentCurvatureLaw plastic_law(double yield = 0.01)
   {

@@ -1,7 +1,7 @@
 // Tests of the picture and ParaView writers on a synthetic spiral wire: the
 // files must exist, be well-formed enough for their readers, and show the wire.
 
-#include <wirefem/analysis/wire_state.h>
+#include <wirefem/core/wire_state.h>
 #include <wirefem/io/picture.h>
 #include <wirefem/io/series_writer.h>
 #include <wirefem/io/vtu_writer.h>
@@ -23,8 +23,8 @@
 namespace
 {
   namespace fs = std::filesystem;
-  using wirefem::analysis::WireState;
-  using wirefem::geometry::Vec2;
+  using wirefem::core::Vec2;
+  using wirefem::core::WireState;
 
   constexpr double pi = 3.14159265358979323846;
 
@@ -48,15 +48,15 @@ namespace
     for (int i = 0; i < n; ++i)
       {
         if (i > 0)
-          s += wirefem::geometry::norm(wire.points[i] - wire.points[i - 1]);
+          s += wirefem::core::norm(wire.points[i] - wire.points[i - 1]);
         wire.arc_length.push_back(s);
         double kappa = 0.0;
         if (i > 0 && i + 1 < n)
           {
             const Vec2 a = wire.points[i] - wire.points[i - 1];
             const Vec2 b = wire.points[i + 1] - wire.points[i];
-            const double turn = std::atan2(wirefem::geometry::cross(a, b), wirefem::geometry::dot(a, b));
-            kappa = 2.0 * turn / (wirefem::geometry::norm(a) + wirefem::geometry::norm(b));
+            const double turn = std::atan2(wirefem::core::cross(a, b), wirefem::core::dot(a, b));
+            kappa = 2.0 * turn / (wirefem::core::norm(a) + wirefem::core::norm(b));
           }
         wire.curvature.push_back(kappa);
         wire.plastic_curvature.push_back(0.5 * kappa);

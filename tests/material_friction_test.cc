@@ -9,9 +9,9 @@
 
 namespace
 {
+  using wirefem::material::Hardening;
   using wirefem::material::MomentCurvatureLaw;
   using wirefem::material::PlasticState;
-  using wirefem::scene::Hardening;
 
   constexpr double c = 60.0;  // stiffness k2
   constexpr double ey = 0.04; // yield strain

@@ -16,7 +16,7 @@
 
 namespace wirefem::analysis
 {
-  using geometry::Vec2;
+  using core::Vec2;
 
   namespace
   {
@@ -40,7 +40,7 @@ namespace wirefem::analysis
       std::vector<std::pair<int, int>> chord; // vertex indices
     };
 
-    Refined refine(const WireState &wire)
+    Refined refine(const core::WireState &wire)
     {
       struct Mark
       {
@@ -85,7 +85,7 @@ namespace wirefem::analysis
     }
   } // namespace
 
-  int count_loops(const WireState &wire)
+  int count_loops(const core::WireState &wire)
   {
     if (wire.points.size() < 3 || wire.self_contacts.empty())
       return 0;
@@ -133,9 +133,10 @@ namespace wirefem::analysis
 
 namespace wirefem::analysis
 {
-  std::vector<SelfContact> find_self_contacts(const WireState &wire, const double exclusion_length)
+  std::vector<core::SelfContact> find_self_contacts(const core::WireState &wire,
+                                                    const double exclusion_length)
   {
-    std::vector<SelfContact> contacts;
+    std::vector<core::SelfContact> contacts;
     const int n = static_cast<int>(wire.points.size());
     if (n < 2)
       return contacts;
@@ -158,7 +159,7 @@ namespace wirefem::analysis
         if ((cp.s >= 1.0 && i < last_segment && i + 1 < j && separated(i + 1, j)) ||
             (cp.t >= 1.0 && j < last_segment))
           continue;
-        SelfContact c;
+        core::SelfContact c;
         c.s_a = wire.arc_length[i] + cp.s * (wire.arc_length[i + 1] - wire.arc_length[i]);
         c.s_b = wire.arc_length[j] + cp.t * (wire.arc_length[j + 1] - wire.arc_length[j]);
         c.point_a = cp.s < 0.5 ? i : i + 1;

@@ -5,7 +5,7 @@
 
 namespace wirefem::analysis
 {
-  using geometry::Vec2;
+  using core::Vec2;
 
   double packing_density(const double injected_length, const double radius, const double diameter)
   {
@@ -30,7 +30,7 @@ namespace wirefem::analysis
     }
   } // namespace
 
-  Morphology classify(const WireState &wire, const double spiral_turns)
+  Morphology classify(const core::WireState &wire, const double spiral_turns)
   {
     Morphology m;
     const auto &p = wire.points;

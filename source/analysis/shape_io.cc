@@ -13,7 +13,7 @@
 
 namespace wirefem::analysis
 {
-  using geometry::Vec2;
+  using core::Vec2;
   namespace fs = std::filesystem;
 
   namespace
@@ -34,7 +34,7 @@ namespace wirefem::analysis
     }
 
     /// Arc length along the polyline and curvature from the turning angles.
-    void complete_geometry(WireState &w)
+    void complete_geometry(core::WireState &w)
     {
       const auto &p = w.points;
       const std::size_t n = p.size();
@@ -60,7 +60,7 @@ namespace wirefem::analysis
       w.injected_length = n > 1 ? w.arc_length.back() - w.arc_length.front() : 0.0;
     }
 
-    void check_shape(const WireState &w, const std::string &file)
+    void check_shape(const core::WireState &w, const std::string &file)
     {
       if (w.points.size() < 2)
         fail(file, "a wire needs at least two points");
@@ -99,12 +99,12 @@ namespace wirefem::analysis
     }
   } // namespace
 
-  WireState read_shape_csv(const std::string &file, const ShapeOptions &options)
+  core::WireState read_shape_csv(const std::string &file, const ShapeOptions &options)
   {
     std::ifstream in(file);
     if (!in)
       fail(file, "cannot open");
-    WireState w;
+    core::WireState w;
     double diameter = 1.0, radius = 0.0;
     const std::regex meta(R"(^\s*#\s*(diameter|radius)\s*=\s*([-+0-9.eE]+)\s*$)");
     std::string line;
@@ -165,7 +165,7 @@ namespace wirefem::analysis
     return w;
   }
 
-  WireState read_run_directory(const std::string &dir, const ShapeOptions &options)
+  core::WireState read_run_directory(const std::string &dir, const ShapeOptions &options)
   {
     const fs::path d(dir);
     const std::string pvd_file = (d / "wire.pvd").string();
@@ -177,7 +177,7 @@ namespace wirefem::analysis
     const std::string vtu_file = (d / pvd.substr(last + 6, end - last - 6)).string();
     const std::string text = read_file(vtu_file);
 
-    WireState w;
+    core::WireState w;
     const auto xyz = data_array(text, "", vtu_file);
     if (xyz.size() % 3 != 0)
       fail(vtu_file, "Points do not come in triples");
@@ -215,14 +215,14 @@ namespace wirefem::analysis
     return w;
   }
 
-  WireState read_shape(const std::string &path, const ShapeOptions &options)
+  core::WireState read_shape(const std::string &path, const ShapeOptions &options)
   {
     if (fs::is_directory(path))
       return read_run_directory(path, options);
     return read_shape_csv(path, options);
   }
 
-  std::string analysis_report(WireState wire, const bool has_radius)
+  std::string analysis_report(core::WireState wire, const bool has_radius)
   {
     if (wire.self_contacts.empty())
       wire.self_contacts = find_self_contacts(wire);

@@ -16,8 +16,7 @@ namespace wirefem::contact
     // boxes, so no box is paired with itself and no pair is reported twice.
     using SegmentBox = CGAL::Box_intersection_d::Box_with_info_d<double, 2, int>;
 
-    inline bool is_candidate(const std::vector<geometry::Vec2> &x, const int i, const int j,
-                             const double cutoff)
+    inline bool is_candidate(const std::vector<core::Vec2> &x, const int i, const int j, const double cutoff)
     {
       return closest_points(x[i], x[i + 1], x[j], x[j + 1]).distance < cutoff;
     }
@@ -33,7 +32,7 @@ namespace wirefem::contact
     assert(exclusion >= 1);
   }
 
-  bool BroadPhase::update(const std::vector<geometry::Vec2> &x, const int first_node, const int last_node)
+  bool BroadPhase::update(const std::vector<core::Vec2> &x, const int first_node, const int last_node)
   {
     assert(0 <= first_node && first_node <= last_node);
     assert(static_cast<std::size_t>(last_node) <= x.size());
@@ -45,14 +44,14 @@ namespace wirefem::contact
     // pair now closer than the diameter was closer than diameter + skin then.
     const double limit2 = 0.25 * skin * skin;
     for (int k = first_node; !needed && k < last_node; ++k)
-      needed = geometry::norm_square(x[k] - x_at_build[k]) > limit2;
+      needed = core::norm_square(x[k] - x_at_build[k]) > limit2;
 
     if (needed)
       rebuild(x, first_node, last_node);
     return needed;
   }
 
-  void BroadPhase::rebuild(const std::vector<geometry::Vec2> &x, const int first_node, const int last_node)
+  void BroadPhase::rebuild(const std::vector<core::Vec2> &x, const int first_node, const int last_node)
   {
     const double cutoff = diameter + skin;
     const double r = 0.5 * cutoff;
@@ -74,8 +73,8 @@ namespace wirefem::contact
     boxes.reserve(last_node - first_node - 1);
     for (int k = first_node; k + 1 < last_node; ++k)
       {
-        const geometry::Vec2 &u = x[k];
-        const geometry::Vec2 &v = x[k + 1];
+        const core::Vec2 &u = x[k];
+        const core::Vec2 &v = x[k + 1];
         boxes.emplace_back(CGAL::Bbox_2(std::min(u.x, v.x) - r, std::min(u.y, v.y) - r,
                                         std::max(u.x, v.x) + r, std::max(u.y, v.y) + r),
                            k);
@@ -94,7 +93,7 @@ namespace wirefem::contact
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   }
 
-  std::vector<SegmentPair> BroadPhase::brute_force(const std::vector<geometry::Vec2> &x, const int first_node,
+  std::vector<SegmentPair> BroadPhase::brute_force(const std::vector<core::Vec2> &x, const int first_node,
                                                    const int last_node, const double cutoff,
                                                    const int exclusion)
   {

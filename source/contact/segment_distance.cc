@@ -4,7 +4,7 @@
 
 namespace wirefem::contact
 {
-  using geometry::Vec2;
+  using core::Vec2;
 
   namespace
   {
@@ -13,7 +13,7 @@ namespace wirefem::contact
     /// 0 < num < len2, so a zero or tiny len2 never produces inf or NaN.
     inline double clamped_projection(const Vec2 &p, const Vec2 &o, const Vec2 &d, const double len2)
     {
-      const double num = geometry::dot(p - o, d);
+      const double num = core::dot(p - o, d);
       if (num <= 0.0)
         return 0.0;
       if (num >= len2)
@@ -38,12 +38,12 @@ namespace wirefem::contact
     // themselves: with strictly opposite signs |o1 - o2| = |o1| + |o2| > 0,
     // also after rounding, so the quotients are finite and lie in [0, 1]
     // without a separate parallelism tolerance.
-    const double o1 = geometry::cross(da, b0 - a0);
-    const double o2 = geometry::cross(da, b1 - a0);
+    const double o1 = core::cross(da, b0 - a0);
+    const double o2 = core::cross(da, b1 - a0);
     if (opposite_signs(o1, o2))
       {
-        const double o3 = geometry::cross(db, a0 - b0);
-        const double o4 = geometry::cross(db, a1 - b0);
+        const double o3 = core::cross(db, a0 - b0);
+        const double o4 = core::cross(db, a1 - b0);
         if (opposite_signs(o3, o4))
           {
             result.s = o3 / (o3 - o4);
@@ -61,18 +61,18 @@ namespace wirefem::contact
     // They are tried in a fixed order and only a strictly smaller distance
     // replaces the current one, which makes ties (parallel overlaps)
     // deterministic.
-    const double la = geometry::norm_square(da);
-    const double lb = geometry::norm_square(db);
+    const double la = core::norm_square(da);
+    const double lb = core::norm_square(db);
 
     // a0 against segment b.
     double t = clamped_projection(a0, b0, db, lb);
-    double best = geometry::norm_square(a0 - (b0 + t * db));
+    double best = core::norm_square(a0 - (b0 + t * db));
     double best_s = 0.0;
     double best_t = t;
 
     // a1 against segment b.
     t = clamped_projection(a1, b0, db, lb);
-    double candidate = geometry::norm_square(a1 - (b0 + t * db));
+    double candidate = core::norm_square(a1 - (b0 + t * db));
     if (candidate < best)
       {
         best = candidate;
@@ -82,7 +82,7 @@ namespace wirefem::contact
 
     // b0 against segment a.
     double s = clamped_projection(b0, a0, da, la);
-    candidate = geometry::norm_square((a0 + s * da) - b0);
+    candidate = core::norm_square((a0 + s * da) - b0);
     if (candidate < best)
       {
         best = candidate;
@@ -92,7 +92,7 @@ namespace wirefem::contact
 
     // b1 against segment a.
     s = clamped_projection(b1, a0, da, la);
-    candidate = geometry::norm_square((a0 + s * da) - b1);
+    candidate = core::norm_square((a0 + s * da) - b1);
     if (candidate < best)
       {
         best = candidate;
@@ -106,7 +106,7 @@ namespace wirefem::contact
     // p and q are exactly the input points where the parameter is clamped.
     result.p = (best_s == 0.0) ? a0 : (best_s == 1.0) ? a1 : a0 + best_s * da;
     result.q = (best_t == 0.0) ? b0 : (best_t == 1.0) ? b1 : b0 + best_t * db;
-    result.distance = std::sqrt(geometry::norm_square(result.p - result.q));
+    result.distance = std::sqrt(core::norm_square(result.p - result.q));
     return result;
   }
 } // namespace wirefem::contact

@@ -4,7 +4,7 @@
 
 namespace wirefem::discrete
 {
-  using geometry::Vec2;
+  using core::Vec2;
 
   ClampTerm::ClampTerm(const material::MomentCurvatureLaw &clamp_law, const Vec2 direction)
     : law(clamp_law)

@@ -1,6 +1,6 @@
 #include <wirefem/discrete/chain_model.h>
 #include <wirefem/discrete/terms.h>
-#include <wirefem/io/binary.h>
+#include <wirefem/core/binary.h>
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 
 namespace wirefem::discrete
 {
-  using geometry::Vec2;
+  using core::Vec2;
   using injection::Side;
 
   ChainModel::ChainModel(const scene::Scene &scene)
@@ -306,26 +306,26 @@ namespace wirefem::discrete
 
   void ChainModel::save(std::ostream &out) const
   {
-    io::write_raw(out, checkpoint_magic);
-    io::write_raw(out, nodes.capacity());
-    io::write_raw(out, left_origin);
-    io::write_raw(out, dt);
-    io::write_raw(out, static_cast<std::uint64_t>(terms.size()));
-    io::write_raw(out, nodes.first);
-    io::write_raw(out, nodes.last);
-    io::write_raw(out, t);
-    io::write_raw(out, steps);
-    io::write_raw(out, inlet_force);
-    io::write_raw(out, ledger);
-    io::write_raw(out, step_energy);
-    io::write_vector(out, nodes.x, nodes.first, nodes.last);
-    io::write_vector(out, nodes.v, nodes.first, nodes.last);
+    core::write_raw(out, checkpoint_magic);
+    core::write_raw(out, nodes.capacity());
+    core::write_raw(out, left_origin);
+    core::write_raw(out, dt);
+    core::write_raw(out, static_cast<std::uint64_t>(terms.size()));
+    core::write_raw(out, nodes.first);
+    core::write_raw(out, nodes.last);
+    core::write_raw(out, t);
+    core::write_raw(out, steps);
+    core::write_raw(out, inlet_force);
+    core::write_raw(out, ledger);
+    core::write_raw(out, step_energy);
+    core::write_vector(out, nodes.x, nodes.first, nodes.last);
+    core::write_vector(out, nodes.v, nodes.first, nodes.last);
     for (const auto &w : window)
       {
         const std::vector<std::pair<double, double>> steps(w.steps.begin(), w.steps.end());
-        io::write_vector(out, steps, 0, steps.size());
-        io::write_raw(out, w.injected);
-        io::write_raw(out, w.work);
+        core::write_vector(out, steps, 0, steps.size());
+        core::write_raw(out, w.injected);
+        core::write_raw(out, w.work);
       }
     for (const auto &term : terms)
       term->save(out);
@@ -333,32 +333,32 @@ namespace wirefem::discrete
 
   void ChainModel::load(std::istream &in)
   {
-    if (io::read_raw<std::uint64_t>(in) != checkpoint_magic)
+    if (core::read_raw<std::uint64_t>(in) != checkpoint_magic)
       throw std::runtime_error("not a wirefem checkpoint of this version");
-    const auto capacity = io::read_raw<int>(in);
-    const auto origin = io::read_raw<int>(in);
-    const auto step = io::read_raw<double>(in);
-    const auto n_terms = io::read_raw<std::uint64_t>(in);
+    const auto capacity = core::read_raw<int>(in);
+    const auto origin = core::read_raw<int>(in);
+    const auto step = core::read_raw<double>(in);
+    const auto n_terms = core::read_raw<std::uint64_t>(in);
     if (capacity != nodes.capacity() || origin != left_origin || step != dt || n_terms != terms.size())
       throw std::runtime_error("the checkpoint was written for a different scene");
-    nodes.first = io::read_raw<int>(in);
-    nodes.last = io::read_raw<int>(in);
-    t = io::read_raw<double>(in);
-    steps = io::read_raw<unsigned long>(in);
-    const auto forces = io::read_raw<std::array<double, 2>>(in);
+    nodes.first = core::read_raw<int>(in);
+    nodes.last = core::read_raw<int>(in);
+    t = core::read_raw<double>(in);
+    steps = core::read_raw<unsigned long>(in);
+    const auto forces = core::read_raw<std::array<double, 2>>(in);
     inlet_force[0] = forces[0];
     inlet_force[1] = forces[1];
-    ledger = io::read_raw<EnergyLedger>(in);
-    step_energy = io::read_raw<StepEnergy>(in);
-    io::read_vector(in, nodes.x);
-    io::read_vector(in, nodes.v);
+    ledger = core::read_raw<EnergyLedger>(in);
+    step_energy = core::read_raw<StepEnergy>(in);
+    core::read_vector(in, nodes.x);
+    core::read_vector(in, nodes.v);
     for (auto &w : window)
       {
-        std::vector<std::pair<double, double>> steps(io::peek_vector_size(in));
-        io::read_vector(in, steps);
+        std::vector<std::pair<double, double>> steps(core::peek_vector_size(in));
+        core::read_vector(in, steps);
         w.steps.assign(steps.begin(), steps.end());
-        w.injected = io::read_raw<double>(in);
-        w.work = io::read_raw<double>(in);
+        w.injected = core::read_raw<double>(in);
+        w.work = core::read_raw<double>(in);
       }
     for (auto &term : terms)
       term->load(in);
@@ -373,9 +373,9 @@ namespace wirefem::discrete
     return true;
   }
 
-  analysis::WireState ChainModel::wire_state() const
+  core::WireState ChainModel::wire_state() const
   {
-    analysis::WireState w;
+    core::WireState w;
     w.diameter = diameter;
     w.cavity_radius = radius;
     w.time = t;
@@ -406,7 +406,7 @@ namespace wirefem::discrete
     if (self_contact)
       for (const auto &a : self_contact->active_pairs())
         {
-          analysis::SelfContact sc;
+          core::SelfContact sc;
           sc.s_a = (a.i - k0 + a.s) * lambda0;
           sc.s_b = (a.j - k0 + a.t) * lambda0;
           sc.point_a = std::clamp(static_cast<int>(std::lround(a.i - k0 + a.s)), 0, n - 1);

@@ -11,7 +11,7 @@
 
 namespace wirefem::discrete
 {
-  using geometry::Vec2;
+  using core::Vec2;
 
   void FrictionWork::begin(const Chain &c)
   {
@@ -30,13 +30,13 @@ namespace wirefem::discrete
   void FrictionWork::save(std::ostream &out) const
   {
     force.save(out);
-    io::write_raw(out, stored);
+    core::write_raw(out, stored);
   }
 
   void FrictionWork::load(std::istream &in)
   {
     force.load(in);
-    stored = stored_trial = io::read_raw<double>(in);
+    stored = stored_trial = core::read_raw<double>(in);
   }
 
   double segment_rotation_rate(const Chain &c, const int a)
@@ -314,34 +314,34 @@ namespace wirefem::discrete
   }
 } // namespace wirefem::discrete
 
-#include <wirefem/io/binary.h>
+#include <wirefem/core/binary.h>
 
 namespace wirefem::discrete
 {
   void WallContactTerm::save(std::ostream &out) const
   {
-    io::write_map(out, history);
+    core::write_map(out, history);
     if (law.friction)
       friction_work.save(out);
   }
 
   void WallContactTerm::load(std::istream &in)
   {
-    io::read_map(in, history);
+    core::read_map(in, history);
     if (law.friction)
       friction_work.load(in);
   }
 
   void SelfContactTerm::save(std::ostream &out) const
   {
-    io::write_map(out, history);
+    core::write_map(out, history);
     if (law.friction)
       friction_work.save(out);
   }
 
   void SelfContactTerm::load(std::istream &in)
   {
-    io::read_map(in, history);
+    core::read_map(in, history);
     if (law.friction)
       friction_work.load(in);
     broad.invalidate();

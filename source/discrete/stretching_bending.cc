@@ -5,7 +5,7 @@
 
 namespace wirefem::discrete
 {
-  using geometry::Vec2;
+  using core::Vec2;
 
   namespace
   {
@@ -195,19 +195,19 @@ namespace wirefem::discrete
   }
 } // namespace wirefem::discrete
 
-#include <wirefem/io/binary.h>
+#include <wirefem/core/binary.h>
 
 namespace wirefem::discrete
 {
   void BendingTerm::save(std::ostream &out) const
   {
-    io::write_vector(out, state, 0, state.size());
+    core::write_vector(out, state, 0, state.size());
     previous.save(out);
   }
 
   void BendingTerm::load(std::istream &in)
   {
-    io::read_vector(in, state);
+    core::read_vector(in, state);
     trial_state = state;
     previous.load(in);
   }

@@ -17,7 +17,7 @@
 
 namespace wirefem::fem
 {
-  using geometry::Vec2;
+  using core::Vec2;
 
   CapstanSolution solve_capstan(const scene::Scene &s, double *tangent_check)
   {

@@ -15,7 +15,7 @@ namespace wirefem::fem
   namespace
   {
     using Fad = Sacado::Fad::SLFad<double, 6>; // at most 6 coordinates: no heap
-    using geometry::Vec2;
+    using core::Vec2;
 
     template <typename T>
     struct P

@@ -7,7 +7,7 @@
 #include <wirefem/fem/sparse_direct.h>
 #include <wirefem/injection/channels.h>
 #include <wirefem/injection/inlet.h>
-#include <wirefem/io/binary.h>
+#include <wirefem/core/binary.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/conditional_ostream.h>
@@ -33,7 +33,7 @@
 
 namespace wirefem::fem
 {
-  using geometry::Vec2;
+  using core::Vec2;
   using injection::Side;
 
   namespace
@@ -115,8 +115,8 @@ namespace wirefem::fem
     int sp_first = -1, sp_last = -1;
     std::vector<contact::SegmentPair> sp_pairs;
 
-    simulation::EnergyLedger ledger;
-    simulation::StepReport last_report;
+    core::EnergyLedger ledger;
+    core::StepReport last_report;
     injection::ForceWindow window[2];
     std::vector<std::string> effects;
     std::vector<double> history;
@@ -1164,11 +1164,11 @@ namespace wirefem::fem
   {
     return impl->window[1].mean();
   }
-  const simulation::EnergyLedger &RodModel::energies() const
+  const core::EnergyLedger &RodModel::energies() const
   {
     return impl->ledger;
   }
-  simulation::StepReport RodModel::report() const
+  core::StepReport RodModel::report() const
   {
     return impl->last_report;
   }
@@ -1205,10 +1205,10 @@ namespace wirefem::fem
     return true;
   }
 
-  analysis::WireState RodModel::wire_state() const
+  core::WireState RodModel::wire_state() const
   {
     const auto &m = *impl;
-    analysis::WireState w;
+    core::WireState w;
     w.diameter = m.diameter;
     w.cavity_radius = m.radius;
     w.time = m.t;
@@ -1261,7 +1261,7 @@ namespace wirefem::fem
     };
     for (const auto &pr : m.latest.pairs)
       {
-        analysis::SelfContact sc;
+        core::SelfContact sc;
         sc.s_a = m.node_S[pr.i] + pr.s * (m.node_S[pr.i + 1] - m.node_S[pr.i]) - s0;
         sc.s_b = m.node_S[pr.j] + pr.t * (m.node_S[pr.j + 1] - m.node_S[pr.j]) - s0;
         sc.point_a = point_of(pr.i, pr.s);
@@ -1279,14 +1279,14 @@ namespace wirefem::fem
     void write_dealii_vector(std::ostream &out, const dealii::Vector<double> &x)
     {
       const std::vector<double> v(x.begin(), x.end());
-      io::write_vector(out, v, 0, v.size());
+      core::write_vector(out, v, 0, v.size());
     }
     void read_dealii_vector(std::istream &in, dealii::Vector<double> &x)
     {
       std::vector<double> v(x.size());
-      if (io::peek_vector_size(in) != v.size())
+      if (core::peek_vector_size(in) != v.size())
         throw std::runtime_error("checkpoint does not fit this scene");
-      io::read_vector(in, v);
+      core::read_vector(in, v);
       std::copy(v.begin(), v.end(), x.begin());
     }
   } // namespace
@@ -1294,52 +1294,52 @@ namespace wirefem::fem
   void RodModel::save(std::ostream &out) const
   {
     const auto &m = *impl;
-    io::write_raw(out, fem_magic);
-    io::write_raw(out, static_cast<std::uint64_t>(m.u.size()));
+    core::write_raw(out, fem_magic);
+    core::write_raw(out, static_cast<std::uint64_t>(m.u.size()));
     for (const auto *x : {&m.u, &m.v, &m.a, &m.f_old})
       write_dealii_vector(out, *x);
-    io::write_vector(out, m.qp, 0, m.qp.size());
-    io::write_raw(out, m.t);
-    io::write_raw(out, m.dt);
-    io::write_raw(out, m.steps);
-    io::write_raw(out, m.cuts);
-    io::write_raw(out, m.first_free);
-    io::write_raw(out, m.last_free);
-    io::write_raw(out, m.ledger);
+    core::write_vector(out, m.qp, 0, m.qp.size());
+    core::write_raw(out, m.t);
+    core::write_raw(out, m.dt);
+    core::write_raw(out, m.steps);
+    core::write_raw(out, m.cuts);
+    core::write_raw(out, m.first_free);
+    core::write_raw(out, m.last_free);
+    core::write_raw(out, m.ledger);
     for (const auto &w : m.window)
       {
-        io::write_raw(out, w.injected);
-        io::write_raw(out, w.work);
+        core::write_raw(out, w.injected);
+        core::write_raw(out, w.work);
         const std::vector<std::pair<double, double>> steps(w.steps.begin(), w.steps.end());
-        io::write_vector(out, steps, 0, steps.size());
+        core::write_vector(out, steps, 0, steps.size());
       }
   }
 
   void RodModel::load(std::istream &in)
   {
     auto &m = *impl;
-    if (io::read_raw<std::uint64_t>(in) != fem_magic)
+    if (core::read_raw<std::uint64_t>(in) != fem_magic)
       throw std::runtime_error("not a checkpoint of the FEM model");
-    if (io::read_raw<std::uint64_t>(in) != m.u.size())
+    if (core::read_raw<std::uint64_t>(in) != m.u.size())
       throw std::runtime_error("checkpoint does not fit this scene");
     for (auto *x : {&m.u, &m.v, &m.a, &m.f_old})
       read_dealii_vector(in, *x);
-    if (io::peek_vector_size(in) != m.qp.size())
+    if (core::peek_vector_size(in) != m.qp.size())
       throw std::runtime_error("checkpoint does not fit this scene");
-    io::read_vector(in, m.qp);
-    m.t = io::read_raw<double>(in);
-    m.dt = io::read_raw<double>(in);
-    m.steps = io::read_raw<unsigned long>(in);
-    m.cuts = io::read_raw<unsigned long>(in);
-    m.first_free = io::read_raw<int>(in);
-    m.last_free = io::read_raw<int>(in);
-    m.ledger = io::read_raw<simulation::EnergyLedger>(in);
+    core::read_vector(in, m.qp);
+    m.t = core::read_raw<double>(in);
+    m.dt = core::read_raw<double>(in);
+    m.steps = core::read_raw<unsigned long>(in);
+    m.cuts = core::read_raw<unsigned long>(in);
+    m.first_free = core::read_raw<int>(in);
+    m.last_free = core::read_raw<int>(in);
+    m.ledger = core::read_raw<core::EnergyLedger>(in);
     for (auto &w : m.window)
       {
-        w.injected = io::read_raw<double>(in);
-        w.work = io::read_raw<double>(in);
-        std::vector<std::pair<double, double>> steps(io::peek_vector_size(in));
-        io::read_vector(in, steps);
+        w.injected = core::read_raw<double>(in);
+        w.work = core::read_raw<double>(in);
+        std::vector<std::pair<double, double>> steps(core::peek_vector_size(in));
+        core::read_vector(in, steps);
         w.steps.assign(steps.begin(), steps.end());
       }
     m.broad.invalidate();

@@ -110,7 +110,7 @@ namespace wirefem::io
       return levels;
     }
 
-    Scene make_scene(const analysis::WireState &wire, const int size_px)
+    Scene make_scene(const core::WireState &wire, const int size_px)
     {
       Scene scene;
       scene.size_px = size_px;
@@ -125,7 +125,7 @@ namespace wirefem::io
           double r = 0.0;
           for (const auto &p : wire.points)
             if (std::isfinite(p.x) && std::isfinite(p.y))
-              r = std::max(r, geometry::norm(p));
+              r = std::max(r, core::norm(p));
           scene.extent = r > 0.0 ? r : 1.0;
         }
       scene.scale = size_px / (2.1 * scene.extent);
@@ -287,8 +287,8 @@ namespace wirefem::io
     }
   } // namespace
 
-  void write_pictures(const analysis::WireState &wire, const std::string &png_file,
-                      const std::string &svg_file, const PictureOptions &options)
+  void write_pictures(const core::WireState &wire, const std::string &png_file, const std::string &svg_file,
+                      const PictureOptions &options)
   {
     if (options.size_px <= 0)
       throw std::invalid_argument("wirefem::io::write_pictures: size_px must be positive, got " +

@@ -74,7 +74,7 @@ namespace wirefem::io
     }
   } // namespace
 
-  void write_vtu(const std::string &filename, const analysis::WireState &wire)
+  void write_vtu(const std::string &filename, const core::WireState &wire)
   {
     std::ofstream file(filename);
     if (!file)

@@ -11,7 +11,7 @@ namespace wirefem::material
   }
 
   MomentCurvatureLaw::MomentCurvatureLaw(const double stiffness, const double yield_strain,
-                                         const double hardening_slope, const scene::Hardening hardening)
+                                         const double hardening_slope, const Hardening hardening)
     : stiffness(stiffness)
     , yield_moment(stiffness * yield_strain)
     , hardening(hardening)
@@ -36,7 +36,7 @@ namespace wirefem::material
         r.tangent = stiffness;
         return r;
       }
-    const bool kinematic = hardening == scene::Hardening::kinematic;
+    const bool kinematic = hardening == Hardening::kinematic;
     const double back = kinematic ? hardening_modulus * old.plastic_strain : 0.0;
     const double radius = yield_moment + (kinematic ? 0.0 : hardening_modulus * old.accumulated_strain);
     const double xi = trial - back;

@@ -18,7 +18,7 @@
 
 namespace wirefem::simulation
 {
-  using geometry::Vec2;
+  using core::Vec2;
 
   namespace
   {

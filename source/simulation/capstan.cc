@@ -19,7 +19,7 @@
 
 namespace wirefem::simulation
 {
-  using geometry::Vec2;
+  using core::Vec2;
 
   namespace
   {

@@ -1,13 +1,13 @@
 #include <wirefem/analysis/fits.h>
 #include <wirefem/analysis/observables.h>
-#include <wirefem/discrete/chain_model.h>
 #include <wirefem/io/atomic_file.h>
-#include <wirefem/io/binary.h>
+#include <wirefem/core/binary.h>
 #include <wirefem/io/picture.h>
 #include <wirefem/io/progress.h>
 #include <wirefem/io/series_writer.h>
 #include <wirefem/io/vtu_writer.h>
 #include <wirefem/scene/scene_reader.h>
+#include <wirefem/simulation/make_model.h>
 #include <wirefem/simulation/simulation.h>
 #include <wirefem/version.h>
 
@@ -136,23 +136,23 @@ namespace wirefem::simulation
     }
 
     void write_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, const LoopState &loop,
-                          const io::PvdCollection &pvd, const Model &model)
+                          const io::PvdCollection &pvd, const core::Model &model)
     {
       // Written next to the final name and renamed, so an interruption while
       // writing leaves the previous checkpoint intact.
       const auto tmp = file.string() + ".tmp";
       {
         std::ofstream out(tmp, std::ios::binary);
-        io::write_raw(out, checkpoint_magic);
+        core::write_raw(out, checkpoint_magic);
         const auto fp = fingerprint(scene);
-        io::write_raw(out, static_cast<std::uint64_t>(fp.size()));
+        core::write_raw(out, static_cast<std::uint64_t>(fp.size()));
         out.write(fp.data(), static_cast<std::streamsize>(fp.size()));
-        io::write_raw(out, loop);
-        io::write_raw(out, static_cast<std::uint64_t>(pvd.entries().size()));
+        core::write_raw(out, loop);
+        core::write_raw(out, static_cast<std::uint64_t>(pvd.entries().size()));
         for (const auto &[time, name] : pvd.entries())
           {
-            io::write_raw(out, time);
-            io::write_raw(out, static_cast<std::uint64_t>(name.size()));
+            core::write_raw(out, time);
+            core::write_raw(out, static_cast<std::uint64_t>(name.size()));
             out.write(name.data(), static_cast<std::streamsize>(name.size()));
           }
         model.save(out);
@@ -163,25 +163,25 @@ namespace wirefem::simulation
     }
 
     void read_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, LoopState &loop,
-                         io::PvdCollection &pvd, Model &model)
+                         io::PvdCollection &pvd, core::Model &model)
     {
       std::ifstream in(file, std::ios::binary);
       if (!in)
         throw scene::InputError(file.string() + ": no checkpoint to resume from");
       try
         {
-          if (io::read_raw<std::uint64_t>(in) != checkpoint_magic)
+          if (core::read_raw<std::uint64_t>(in) != checkpoint_magic)
             throw std::runtime_error("not a wirefem checkpoint");
-          std::string fp(io::read_raw<std::uint64_t>(in), ' ');
+          std::string fp(core::read_raw<std::uint64_t>(in), ' ');
           in.read(fp.data(), static_cast<std::streamsize>(fp.size()));
           if (fp != fingerprint(scene))
             throw std::runtime_error("it was written for different scene parameters");
-          loop = io::read_raw<LoopState>(in);
-          const auto n = io::read_raw<std::uint64_t>(in);
+          loop = core::read_raw<LoopState>(in);
+          const auto n = core::read_raw<std::uint64_t>(in);
           for (std::uint64_t k = 0; k < n; ++k)
             {
-              const auto time = io::read_raw<double>(in);
-              std::string name(io::read_raw<std::uint64_t>(in), ' ');
+              const auto time = core::read_raw<double>(in);
+              std::string name(core::read_raw<std::uint64_t>(in), ' ');
               in.read(name.data(), static_cast<std::streamsize>(name.size()));
               pvd.add(time, name);
             }
@@ -206,7 +206,7 @@ namespace wirefem::simulation
   {
     const auto wall_start = std::chrono::steady_clock::now();
     const auto model_ptr = make_model(scene);
-    Model &model = *model_ptr;
+    core::Model &model = *model_ptr;
     const double r = scene.cavity.radius;
     const auto &inj = scene.injection;
 
@@ -263,7 +263,7 @@ namespace wirefem::simulation
       last_checkpoint = std::chrono::steady_clock::now();
     };
 
-    auto write_vtu = [&](const analysis::WireState &w) {
+    auto write_vtu = [&](const core::WireState &w) {
       const std::string name = fmt::format("wire_{:05d}.vtu", vtu_count++);
       io::write_vtu((dir / name).string(), w);
       pvd.add(w.time, name);

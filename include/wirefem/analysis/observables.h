@@ -1,7 +1,7 @@
 // Observables of a wire state: packing density, loops, morphology.
 #pragma once
 
-#include <wirefem/analysis/wire_state.h>
+#include <wirefem/core/wire_state.h>
 
 #include <array>
 #include <string>
@@ -20,13 +20,14 @@ namespace wirefem::analysis
   /// contacts) is one loop: only its innermost chord closes an empty face.
   /// A face that also touches another contact (a loop with a smaller loop
   /// hanging into it, the gap between two touching strands) is not one.
-  int count_loops(const WireState &wire);
+  int count_loops(const core::WireState &wire);
 
   /// The self-contacts of a wire from its geometry alone: pieces of the
   /// centreline closer than d whose rest arc lengths are more than
   /// `exclusion_length` apart, one contact per pair of pieces (a contact at
   /// a shared point is reported once). For shapes that come without contacts.
-  std::vector<SelfContact> find_self_contacts(const WireState &wire, double exclusion_length = 3.0);
+  std::vector<core::SelfContact> find_self_contacts(const core::WireState &wire,
+                                                    double exclusion_length = 3.0);
 
   struct Morphology
   {
@@ -49,7 +50,7 @@ namespace wirefem::analysis
   /// Spiral when both halves of the wire wind at least `spiral_turns` around
   /// the centre in the same sense; otherwise classic if A/B < 0.5 (the
   /// paper's criterion), else plastic.
-  Morphology classify(const WireState &wire, double spiral_turns = 0.75);
+  Morphology classify(const core::WireState &wire, double spiral_turns = 0.75);
 
   /// The numbers of a Morphology under their summary.json / `wirefem analyze`
   /// keys, so every writer lists the same keys.

@@ -3,7 +3,7 @@
 // `wirefem analyze`.
 #pragma once
 
-#include <wirefem/analysis/wire_state.h>
+#include <wirefem/core/wire_state.h>
 
 #include <optional>
 #include <stdexcept>
@@ -31,18 +31,18 @@ namespace wirefem::analysis
   /// rescaled to units of the wire diameter (1 when none is given). Rest
   /// arc lengths are the lengths along the polyline; curvature is the
   /// turning angle at a point over the mean of its two segments.
-  WireState read_shape_csv(const std::string &file, const ShapeOptions &options);
+  core::WireState read_shape_csv(const std::string &file, const ShapeOptions &options);
 
   /// The final state of a run: the last file listed in DIR/wire.pvd, and
   /// the cavity radius (or the options') and injected length from
   /// DIR/summary.json.
-  WireState read_run_directory(const std::string &dir, const ShapeOptions &options);
+  core::WireState read_run_directory(const std::string &dir, const ShapeOptions &options);
 
   /// Reads either of the two, by what `path` is.
-  WireState read_shape(const std::string &path, const ShapeOptions &options);
+  core::WireState read_shape(const std::string &path, const ShapeOptions &options);
 
   /// Loops, morphology, symmetry and phi of a shape as JSON text. Without
   /// a cavity radius, phi and the morphology are null. Self-contacts are
   /// found from the geometry when the shape has none.
-  std::string analysis_report(WireState wire, bool has_radius);
+  std::string analysis_report(core::WireState wire, bool has_radius);
 } // namespace wirefem::analysis

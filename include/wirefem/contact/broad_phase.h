@@ -10,7 +10,7 @@
 // CGAL's box_intersection_d finds the candidates; it stays inside the .cc file.
 #pragma once
 
-#include <wirefem/geometry/vec2.h>
+#include <wirefem/core/vec2.h>
 
 #include <vector>
 
@@ -36,7 +36,7 @@ namespace wirefem::contact
     BroadPhase(double diameter, double skin, int exclusion);
 
     /// Rebuilds the candidate list if needed; returns true if it did.
-    bool update(const std::vector<geometry::Vec2> &x, int first_node, int last_node);
+    bool update(const std::vector<core::Vec2> &x, int first_node, int last_node);
 
     /// Force a rebuild at the next update (e.g. after nodes were renumbered).
     void invalidate() { valid = false; }
@@ -47,11 +47,11 @@ namespace wirefem::contact
 
     /// All pairs closer than `cutoff` and more than `exclusion` apart, by
     /// checking every pair: the reference for tests. Sorted by (i, j).
-    static std::vector<SegmentPair> brute_force(const std::vector<geometry::Vec2> &x, int first_node,
+    static std::vector<SegmentPair> brute_force(const std::vector<core::Vec2> &x, int first_node,
                                                 int last_node, double cutoff, int exclusion);
 
   private:
-    void rebuild(const std::vector<geometry::Vec2> &x, int first_node, int last_node);
+    void rebuild(const std::vector<core::Vec2> &x, int first_node, int last_node);
 
     double diameter;
     double skin;
@@ -59,7 +59,7 @@ namespace wirefem::contact
     bool valid = false;
     int built_first = 0;
     int built_last = 0;
-    std::vector<geometry::Vec2> x_at_build; // indexed like x
+    std::vector<core::Vec2> x_at_build; // indexed like x
     std::vector<SegmentPair> pairs;
     unsigned int rebuilds = 0;
   };

@@ -1,7 +1,7 @@
 // Exact closest points between two segments of the centreline.
 #pragma once
 
-#include <wirefem/geometry/vec2.h>
+#include <wirefem/core/vec2.h>
 
 namespace wirefem::contact
 {
@@ -14,19 +14,19 @@ namespace wirefem::contact
     double s = 0.0;
     double t = 0.0;
     double distance = 0.0;
-    geometry::Vec2 p;
-    geometry::Vec2 q;
+    core::Vec2 p;
+    core::Vec2 q;
   };
 
-  ClosestPoints closest_points(const geometry::Vec2 &a0, const geometry::Vec2 &a1, const geometry::Vec2 &b0,
-                               const geometry::Vec2 &b1);
+  ClosestPoints closest_points(const core::Vec2 &a0, const core::Vec2 &a1, const core::Vec2 &b0,
+                               const core::Vec2 &b1);
 
   /// The gap between the two segments' bounding boxes, the larger of the
   /// gaps along x and y (negative where the boxes overlap): a lower bound of
   /// the segments' distance at the cost of a few comparisons, so a caller
   /// can skip closest_points for a pair that cannot be in contact.
-  inline double box_gap(const geometry::Vec2 &a0, const geometry::Vec2 &a1, const geometry::Vec2 &b0,
-                        const geometry::Vec2 &b1)
+  inline double box_gap(const core::Vec2 &a0, const core::Vec2 &a1, const core::Vec2 &b0,
+                        const core::Vec2 &b1)
   {
     const auto gap = [](const double p0, const double p1, const double q0, const double q1) {
       const double plo = p0 < p1 ? p0 : p1, phi = p0 < p1 ? p1 : p0;
@@ -44,17 +44,16 @@ namespace wirefem::contact
   struct PointOnSegment
   {
     double t = 0.0;
-    geometry::Vec2 q;
+    core::Vec2 q;
     double distance2 = 0.0;
   };
 
-  inline PointOnSegment closest_on_segment(const geometry::Vec2 &p, const geometry::Vec2 &a,
-                                           const geometry::Vec2 &b)
+  inline PointOnSegment closest_on_segment(const core::Vec2 &p, const core::Vec2 &a, const core::Vec2 &b)
   {
-    const geometry::Vec2 e = b - a;
+    const core::Vec2 e = b - a;
     const double ee = dot(e, e);
     double t = ee > 0.0 ? dot(p - a, e) / ee : 0.0;
-    geometry::Vec2 q;
+    core::Vec2 q;
     if (t <= 0.0)
       t = 0.0, q = a;
     else if (t >= 1.0)
@@ -73,7 +72,7 @@ namespace wirefem::contact
   /// as p glides past its nodes; counting every segment within reach counts
   /// p twice on one side of each node it passes.
   template <typename Position, typename Allowed>
-  bool nearest_of_stretch(const geometry::Vec2 &p, const int seg, const double distance2, const Position &x,
+  bool nearest_of_stretch(const core::Vec2 &p, const int seg, const double distance2, const Position &x,
                           const Allowed &allowed)
   {
     if (allowed(seg - 1) && !(distance2 < closest_on_segment(p, x(seg - 1), x(seg)).distance2))

@@ -8,7 +8,7 @@
 // with the injection; all others are free.
 #pragma once
 
-#include <wirefem/geometry/vec2.h>
+#include <wirefem/core/vec2.h>
 
 #include <iosfwd>
 #include <algorithm>
@@ -25,9 +25,9 @@ namespace wirefem::discrete
     int last = 0;           ///< one past the last active node
     int n_prescribed = 2;   ///< nodes held by each channel
 
-    std::vector<geometry::Vec2> x;     ///< positions (d)
-    std::vector<geometry::Vec2> v;     ///< velocities (d / time)
-    std::vector<geometry::Vec2> f;     ///< forces of the current step
+    std::vector<core::Vec2> x;         ///< positions (d)
+    std::vector<core::Vec2> v;         ///< velocities (d / time)
+    std::vector<core::Vec2> f;         ///< forces of the current step
     std::vector<double> contact_force; ///< sum of contact normal forces per node (output)
 
     explicit Chain(int capacity = 0)

@@ -4,12 +4,12 @@
 // keeps the energy ledger.
 #pragma once
 
-#include <wirefem/analysis/wire_state.h>
+#include <wirefem/core/wire_state.h>
 #include <wirefem/discrete/chain.h>
 #include <wirefem/injection/channels.h>
 #include <wirefem/injection/inlet.h>
 #include <wirefem/scene/parameters.h>
-#include <wirefem/simulation/model.h>
+#include <wirefem/core/model.h>
 
 #include <deque>
 #include <iosfwd>
@@ -23,9 +23,9 @@ namespace wirefem::discrete
   class BendingTerm;
   class SelfContactTerm;
 
-  using simulation::EnergyLedger;
+  using core::EnergyLedger;
 
-  class ChainModel final : public simulation::Model
+  class ChainModel final : public core::Model
   {
   public:
     explicit ChainModel(const scene::Scene &scene);
@@ -51,7 +51,7 @@ namespace wirefem::discrete
     double instantaneous_force(int side) const { return inlet_force[side]; }
     const EnergyLedger &energies() const override { return ledger; }
     const StepEnergy &last_step() const { return step_energy; }
-    simulation::StepReport report() const override
+    core::StepReport report() const override
     {
       return {step_energy.max_penetration, step_energy.n_self_contacts, step_energy.n_wall_contacts};
     }
@@ -62,7 +62,7 @@ namespace wirefem::discrete
     bool finite() const override;
 
     /// The wire from the left inlet to the right inlet, with per-point fields.
-    analysis::WireState wire_state() const override;
+    core::WireState wire_state() const override;
 
     /// Writes the whole dynamic state (chain, histories, ledger) so that a
     /// model built from the same scene continues bit for bit after load().

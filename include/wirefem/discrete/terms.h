@@ -6,7 +6,7 @@
 #include <wirefem/contact/friction_law.h>
 #include <wirefem/discrete/chain.h>
 #include <wirefem/injection/channels.h>
-#include <wirefem/io/binary.h>
+#include <wirefem/core/binary.h>
 #include <wirefem/material/moment_curvature_law.h>
 
 #include <cstdint>
@@ -38,13 +38,13 @@ namespace wirefem::discrete
     void save(std::ostream &out) const
     {
       if (!empty())
-        io::write_vector(out, committed, 0, committed.size());
+        core::write_vector(out, committed, 0, committed.size());
     }
     void load(std::istream &in)
     {
       if (empty())
         return;
-      io::read_vector(in, committed);
+      core::read_vector(in, committed);
       trial = committed;
     }
   };
@@ -65,7 +65,7 @@ namespace wirefem::discrete
     void resize(const int capacity) { force.resize(capacity); }
     /// Starts an evaluation: clears the nodal friction forces of the active nodes.
     void begin(const Chain &c);
-    void add_force(const int k, const geometry::Vec2 &f) { force.trial[k] += f; }
+    void add_force(const int k, const core::Vec2 &f) { force.trial[k] += f; }
     void add_stored(const double energy) { stored_trial += energy; }
     /// Dissipated over the step that brought the chain to its positions
     /// (x_n - x_{n-1} = v dt: velocities are at the half step).
@@ -79,7 +79,7 @@ namespace wirefem::discrete
     void load(std::istream &in);
 
   private:
-    PreviousRates<geometry::Vec2> force; // nodal friction force, previous step and now
+    PreviousRates<core::Vec2> force; // nodal friction force, previous step and now
     double stored = 0.0, stored_trial = 0.0;
   };
 
@@ -166,7 +166,7 @@ namespace wirefem::discrete
 
   private:
     double gamma;
-    PreviousRates<geometry::Vec2> previous; // velocity per node
+    PreviousRates<core::Vec2> previous; // velocity per node
   };
 
   /// The moment of a rotational spring at turning angle zeta: the return
@@ -188,7 +188,7 @@ namespace wirefem::discrete
   {
   public:
     /// law: the interior nodes' law (stiffness k2, yield angle alpha).
-    ClampTerm(const material::MomentCurvatureLaw &clamp_law, geometry::Vec2 direction);
+    ClampTerm(const material::MomentCurvatureLaw &clamp_law, core::Vec2 direction);
     const char *name() const override { return "clamp"; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
     void commit() override { state = trial_state; }
@@ -197,7 +197,7 @@ namespace wirefem::discrete
 
   private:
     material::MomentCurvatureLaw law;
-    geometry::Vec2 direction;
+    core::Vec2 direction;
     material::PlasticState state, trial_state;
   };
 
@@ -209,7 +209,7 @@ namespace wirefem::discrete
   class EndLoadTerm : public Term
   {
   public:
-    EndLoadTerm(geometry::Vec2 force, double moment);
+    EndLoadTerm(core::Vec2 force, double moment);
     const char *name() const override { return "end load"; }
     void set_load_factor(double f) { factor = f; }
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
@@ -220,7 +220,7 @@ namespace wirefem::discrete
     double potential(const Chain &chain) const;
 
   private:
-    geometry::Vec2 force;
+    core::Vec2 force;
     double moment;
     double factor = 1.0;
     double committed_angle = 0.0, trial_angle = 0.0;
@@ -256,7 +256,7 @@ namespace wirefem::discrete
   struct NodalForce
   {
     int node = 0;
-    geometry::Vec2 force;
+    core::Vec2 force;
   };
 
   /// Angular velocity of segment a -> a + 1.

@@ -23,7 +23,7 @@
 #pragma once
 
 #include <wirefem/contact/friction_law.h>
-#include <wirefem/geometry/vec2.h>
+#include <wirefem/core/vec2.h>
 
 #include <array>
 #include <vector>
@@ -60,9 +60,8 @@ namespace wirefem::fem
   /// (the radial channels), where the corners of the openings are the
   /// contact; a closed circle when s.mouths is false.
   /// Returns false when the point does not touch.
-  bool wall_contact(double radius, const ContactSettings &s, double weight, const geometry::Vec2 &x,
-                    const geometry::Vec2 &v0, double c, ContactContribution &out,
-                    double friction_scale = 1.0);
+  bool wall_contact(double radius, const ContactSettings &s, double weight, const core::Vec2 &x,
+                    const core::Vec2 &v0, double c, ContactContribution &out, double friction_scale = 1.0);
 
   /// Friction state of a wall contact under the spring law.
   struct SpringFriction
@@ -81,7 +80,7 @@ namespace wirefem::fem
   /// below the static limit: a sharp stick/slip threshold. The tangent is
   /// exact within the branch the current x is in.
   bool wall_contact_spring(double radius, const ContactSettings &s, double weight, double stiffness_ratio,
-                           const geometry::Vec2 &x, const geometry::Vec2 &x_old, double dt,
+                           const core::Vec2 &x, const core::Vec2 &x_old, double dt,
                            const contact::FrictionHistory &old, ContactContribution &out,
                            SpringFriction &friction);
 
@@ -89,16 +88,16 @@ namespace wirefem::fem
   /// segment, clamped to its ends). t: the segment parameter of the closest
   /// point. Returns false when they are farther apart than d (or touch at
   /// zero distance). Residual and tangent cover the 6 coordinates.
-  bool point_segment_contact(const ContactSettings &s, double weight, const std::array<geometry::Vec2, 3> &x,
-                             const std::array<geometry::Vec2, 3> &v0, double c, ContactContribution &out,
+  bool point_segment_contact(const ContactSettings &s, double weight, const std::array<core::Vec2, 3> &x,
+                             const std::array<core::Vec2, 3> &v0, double c, ContactContribution &out,
                              double &t, double friction_scale = 1.0);
 
   /// Point x[0] against point x[1]: the penalty and friction of
   /// point_segment_contact for a segment shrunk to the point x[1]. Returns
   /// false when they are d or
   /// more apart (or coincide). Residual and tangent cover the 4 coordinates.
-  bool point_point_contact(const ContactSettings &s, double weight, const std::array<geometry::Vec2, 2> &x,
-                           const std::array<geometry::Vec2, 2> &v0, double c, ContactContribution &out,
+  bool point_point_contact(const ContactSettings &s, double weight, const std::array<core::Vec2, 2> &x,
+                           const std::array<core::Vec2, 2> &v0, double c, ContactContribution &out,
                            double friction_scale = 1.0);
 
   /// Self contact of a point with a stretch of wire, the share of one
@@ -115,8 +114,8 @@ namespace wirefem::fem
   /// point; vertex_force: the normal force of the node term taken away (0
   /// when none). out.normal_force and out.overlap are the segment's own.
   /// Returns false when the point does not touch the segment.
-  bool point_stretch_contact(const ContactSettings &s, double weight, const std::array<geometry::Vec2, 3> &x,
-                             const std::array<geometry::Vec2, 3> &v0, double c, bool next_presses,
+  bool point_stretch_contact(const ContactSettings &s, double weight, const std::array<core::Vec2, 3> &x,
+                             const std::array<core::Vec2, 3> &v0, double c, bool next_presses,
                              ContactContribution &out, double &t, double &vertex_force,
                              double friction_scale = 1.0);
 
@@ -124,8 +123,8 @@ namespace wirefem::fem
   /// plane the closest points of two segments that do not cross always
   /// involve an end point; the case is chosen from the current positions.
   /// Returns false when they are farther apart than d (or cross).
-  bool segment_contact(const ContactSettings &s, double weight, const std::array<geometry::Vec2, 4> &x,
-                       const std::array<geometry::Vec2, 4> &v0, double c, ContactContribution &out,
+  bool segment_contact(const ContactSettings &s, double weight, const std::array<core::Vec2, 4> &x,
+                       const std::array<core::Vec2, 4> &v0, double c, ContactContribution &out,
                        double friction_scale = 1.0);
   /// The walls of a channel acting on one rod element (Lagrange, nodes at
   /// node_position in [0, 1], rest length h): energy (k/2) times the integral
@@ -139,7 +138,7 @@ namespace wirefem::fem
   /// crossing the mouth. Returns false when the element lies wholly outside
   /// (s >= 0 at both ends).
   bool channel_wall_element(const std::vector<double> &node_position, double h, double k, const double *X,
-                            const geometry::Vec2 &axis, double &energy, double *gradient,
+                            const core::Vec2 &axis, double &energy, double *gradient,
                             double *tangent = nullptr);
 
 } // namespace wirefem::fem

@@ -18,14 +18,15 @@
 // deal.II stays in the .cc file.
 #pragma once
 
-#include <wirefem/simulation/model.h>
+#include <wirefem/core/model.h>
+#include <wirefem/scene/parameters.h>
 
 #include <memory>
 #include <vector>
 
 namespace wirefem::fem
 {
-  class RodModel final : public simulation::Model
+  class RodModel final : public core::Model
   {
   public:
     explicit RodModel(const scene::Scene &scene);
@@ -40,11 +41,11 @@ namespace wirefem::fem
     double injected_length() const override;
     double force_left() const override;
     double force_right() const override;
-    const simulation::EnergyLedger &energies() const override;
-    simulation::StepReport report() const override;
+    const core::EnergyLedger &energies() const override;
+    core::StepReport report() const override;
     const std::vector<std::string> &active_effects() const override;
     bool finite() const override;
-    analysis::WireState wire_state() const override;
+    core::WireState wire_state() const override;
     void save(std::ostream &out) const override;
     void load(std::istream &in) override;
     void print_timing(std::ostream &out) const override;

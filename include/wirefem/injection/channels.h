@@ -20,7 +20,7 @@
 // at inlet + (S + u(t)) * axis as long as S + u(t) <= 0.
 #pragma once
 
-#include <wirefem/geometry/vec2.h>
+#include <wirefem/core/vec2.h>
 
 #include <cmath>
 #include <limits>
@@ -67,7 +67,7 @@ namespace wirefem::injection
     /// angle of the wire's tangent there.
     struct CurvePoint
     {
-      geometry::Vec2 position;
+      core::Vec2 position;
       double angle;
     };
     /// The S from the left inlet, heading down, round the half circle of
@@ -84,9 +84,9 @@ namespace wirefem::injection
               wire_angle() + (first_half ? s / rho : 2.0 * M_PI - s / rho)};
     }
 
-    geometry::Vec2 inlet(Side s) const { return {s == Side::left ? -inlet_radius : inlet_radius, 0.0}; }
+    core::Vec2 inlet(Side s) const { return {s == Side::left ? -inlet_radius : inlet_radius, 0.0}; }
     /// Unit vector along which the channel pushes, into the cavity.
-    geometry::Vec2 axis(Side s) const
+    core::Vec2 axis(Side s) const
     {
       if (tangential)
         return {0.0, s == Side::left ? -1.0 : 1.0};
@@ -94,12 +94,12 @@ namespace wirefem::injection
     }
 
     /// Position at time t of the material point S of the wire in channel s.
-    geometry::Vec2 position(Side s, double material_coordinate, double t) const
+    core::Vec2 position(Side s, double material_coordinate, double t) const
     {
       return inlet(s) + (material_coordinate + injected_per_channel(t)) * axis(s);
     }
     /// Signed distance of x past the inlet along the channel axis.
-    double depth(Side s, const geometry::Vec2 &x) const
+    double depth(Side s, const core::Vec2 &x) const
     {
       const auto a = axis(s);
       return (x.x - inlet(s).x) * a.x + (x.y - inlet(s).y) * a.y;

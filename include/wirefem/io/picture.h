@@ -3,7 +3,7 @@
 // elastic bending energy (darker = more energy). Drawn with cairo.
 #pragma once
 
-#include <wirefem/analysis/wire_state.h>
+#include <wirefem/core/wire_state.h>
 
 #include <string>
 #include <vector>
@@ -19,8 +19,8 @@ namespace wirefem::io
 
   /// Writes the same drawing to a PNG and an SVG file. Throws
   /// std::runtime_error if a file cannot be written.
-  void write_pictures(const analysis::WireState &wire, const std::string &png_file,
-                      const std::string &svg_file, const PictureOptions &options = {});
+  void write_pictures(const core::WireState &wire, const std::string &png_file, const std::string &svg_file,
+                      const PictureOptions &options = {});
 
   /// The phase diagram of a sweep: one cell per (kappa_theta, mu_st), in
   /// the colour of its majority phase (paler when the majority is slim),

@@ -3,7 +3,7 @@
 // PVD collection that indexes them by time.
 #pragma once
 
-#include <wirefem/analysis/wire_state.h>
+#include <wirefem/core/wire_state.h>
 
 #include <string>
 #include <utility>
@@ -12,7 +12,7 @@
 namespace wirefem::io
 {
   /// Writes one ASCII VTU file of the wire. Throws std::runtime_error on failure.
-  void write_vtu(const std::string &filename, const analysis::WireState &wire);
+  void write_vtu(const std::string &filename, const core::WireState &wire);
 
   /// A ParaView .pvd collection; write() rewrites the whole file atomically
   /// (temporary file + rename) so an interrupted run leaves a valid file.

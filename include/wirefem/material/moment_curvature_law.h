@@ -13,10 +13,14 @@
 // the algorithmic tangent equals the continuum one (c or s c).
 #pragma once
 
-#include <wirefem/scene/parameters.h>
-
 namespace wirefem::material
 {
+  enum class Hardening
+  {
+    kinematic,
+    isotropic
+  };
+
   /// History of one rotational spring / quadrature point.
   struct PlasticState
   {
@@ -38,8 +42,7 @@ namespace wirefem::material
     /// Elastic law with stiffness c.
     explicit MomentCurvatureLaw(double stiffness);
     /// Elastoplastic law: yield strain e_y (moment c e_y), hardening slope s.
-    MomentCurvatureLaw(double stiffness, double yield_strain, double hardening_slope,
-                       scene::Hardening hardening);
+    MomentCurvatureLaw(double stiffness, double yield_strain, double hardening_slope, Hardening hardening);
 
     MomentResult evaluate(double strain, const PlasticState &old_state) const;
 
@@ -57,7 +60,7 @@ namespace wirefem::material
     double stiffness;
     double yield_moment = 0.0;
     double hardening_modulus = 0.0;
-    scene::Hardening hardening = scene::Hardening::kinematic;
+    Hardening hardening = Hardening::kinematic;
     bool plastic = false;
   };
 } // namespace wirefem::material

@@ -6,6 +6,8 @@
 // for every key with its default and documentation.
 #pragma once
 
+#include <wirefem/material/moment_curvature_law.h>
+
 #include <cmath>
 #include <limits>
 #include <string>
@@ -19,11 +21,7 @@ namespace wirefem::scene
     fem
   };
 
-  enum class Hardening
-  {
-    kinematic,
-    isotropic
-  };
+  using material::Hardening;
 
   /// What the run does: the paper's injection into the cavity, or a
   /// benchmark set-up of validation/ (a rod clamped at one end and loaded at

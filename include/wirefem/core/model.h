@@ -1,17 +1,16 @@
 // What the run loop needs from a wire model. Both the discrete chain and the
 // rod FEM implement it, so the run loop, analysis and output never know which
-// model they drive.
+// model they drive. The core module (this header, the wire state, the
+// geometry and the binary I/O) includes no model and nothing above it.
 #pragma once
 
-#include <wirefem/analysis/wire_state.h>
-#include <wirefem/scene/parameters.h>
+#include <wirefem/core/wire_state.h>
 
 #include <iosfwd>
-#include <memory>
 #include <string>
 #include <vector>
 
-namespace wirefem::simulation
+namespace wirefem::core
 {
   /// Energies of the whole run (force * d). Potentials are current values,
   /// dissipations and the injection work are accumulated since the start.
@@ -75,7 +74,7 @@ namespace wirefem::simulation
     /// Whether every coordinate and velocity is finite.
     virtual bool finite() const = 0;
     /// The wire from the left inlet to the right inlet, with per-point fields.
-    virtual analysis::WireState wire_state() const = 0;
+    virtual core::WireState wire_state() const = 0;
 
     /// Writes the whole dynamic state so that a model built from the same
     /// scene continues bit for bit after load().
@@ -86,7 +85,4 @@ namespace wirefem::simulation
     /// Where the time went (written to the run log at the end); may be empty.
     virtual void print_timing(std::ostream &) const {}
   };
-
-  /// The model the scene asks for.
-  std::unique_ptr<Model> make_model(const scene::Scene &scene);
-} // namespace wirefem::simulation
+} // namespace wirefem::core

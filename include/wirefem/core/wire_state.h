@@ -5,11 +5,11 @@
 // (EA and EI are given in it), energies in force * d.
 #pragma once
 
-#include <wirefem/geometry/vec2.h>
+#include <wirefem/core/vec2.h>
 
 #include <vector>
 
-namespace wirefem::analysis
+namespace wirefem::core
 {
   /// One wire-wire contact: two points of the centreline closer than d.
   struct SelfContact
@@ -22,8 +22,8 @@ namespace wirefem::analysis
     int point_a = 0;
     int point_b = 0;
     /// Contact points on the two centrelines (units d).
-    geometry::Vec2 x_a;
-    geometry::Vec2 x_b;
+    core::Vec2 x_a;
+    core::Vec2 x_b;
     /// Normal contact force magnitude (>= 0).
     double normal_force = 0.0;
   };
@@ -37,7 +37,7 @@ namespace wirefem::analysis
     double time = 0.0;
     double injected_length = 0.0; ///< wire length inside the cavity L (units d)
 
-    std::vector<geometry::Vec2> points;    ///< centreline, left inlet to right inlet
+    std::vector<core::Vec2> points;        ///< centreline, left inlet to right inlet
     std::vector<double> arc_length;        ///< rest arc length from the first point (d)
     std::vector<double> curvature;         ///< signed curvature (1/d), + = turning left
     std::vector<double> plastic_curvature; ///< plastic (permanent) curvature (1/d)
@@ -46,4 +46,4 @@ namespace wirefem::analysis
     std::vector<SelfContact> self_contacts;
     double max_wall_force = 0.0; ///< largest wall contact force
   };
-} // namespace wirefem::analysis
+} // namespace wirefem::core

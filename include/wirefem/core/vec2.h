@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-namespace wirefem::geometry
+namespace wirefem::core
 {
   struct Vec2
   {
@@ -74,4 +74,4 @@ namespace wirefem::geometry
   {
     return a.x * a.x + a.y * a.y;
   }
-} // namespace wirefem::geometry
+} // namespace wirefem::core

@@ -9,7 +9,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace wirefem::io
+namespace wirefem::core
 {
   template <typename T>
   void write_raw(std::ostream &out, const T &value)
@@ -81,4 +81,4 @@ namespace wirefem::io
         m[key] = read_raw<typename Map::mapped_type>(in);
       }
   }
-} // namespace wirefem::io
+} // namespace wirefem::core
