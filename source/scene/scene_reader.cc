@@ -1,5 +1,7 @@
 #include <wirefem/scene/scene_reader.h>
 
+#include <fmt/format.h>
+
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/utilities.h>
 
@@ -99,6 +101,32 @@ namespace wirefem::scene
       {
         const std::string v = get(path);
         return v == "true" || v == "yes" || v == "1";
+      }
+
+      /// Every entry outside Output as "Section/Key = value" lines, sorted
+      /// by key; numbers written in one canonical form, so that 25 and 25.0
+      /// read alike.
+      std::string fingerprint() const
+      {
+        std::string out;
+        for (const auto &[key, entry] : table)
+          {
+            if (key.rfind("output/", 0) == 0)
+              continue;
+            std::string value = get(entry.path);
+            try
+              {
+                std::size_t used = 0;
+                const double x = std::stod(value, &used);
+                if (used == value.size())
+                  value = fmt::format("{}", x);
+              }
+            catch (const std::exception &)
+              {
+              }
+            out += entry.path + " = " + value + "\n";
+          }
+        return out;
       }
 
     private:
@@ -683,6 +711,7 @@ namespace wirefem::scene
         d.set(file_label + " (--set)", trim(o.substr(0, eq)), trim(o.substr(eq + 1)));
       }
     Scene s = extract(d, file_label);
+    s.fingerprint = d.fingerprint();
     s.prm_file = prm_file;
     s.name = prm_file.empty() ? "default" : std::filesystem::path(prm_file).stem().string();
     validate(s, file_label);

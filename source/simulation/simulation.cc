@@ -22,6 +22,8 @@
 #include <fstream>
 #include <iostream>
 #include <stdexcept>
+#include <sstream>
+#include <map>
 
 namespace wirefem::simulation
 {
@@ -105,34 +107,27 @@ namespace wirefem::simulation
       double wall_time = 0.0; // spent before this process (resumed runs)
     };
 
-    // Everything but the output settings: a checkpoint only resumes the scene
-    // that wrote it.
-    std::string fingerprint(const scene::Scene &s)
+    // The first key whose value differs between two scene fingerprints
+    // (scene::Scene::fingerprint), for the message that refuses a resume.
+    std::string first_difference(const std::string &here, const std::string &there)
     {
-      const auto &w = s.wire;
-      const auto &c = s.contact;
-      const auto &f = c.friction;
-      const auto &i = s.injection;
-      const auto &d = s.discrete;
-      return fmt::format(
-                 "{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}",
-                 int(s.model), s.cavity.radius, w.axial_stiffness, w.bending_stiffness, w.mass_per_length,
-                 w.plasticity.enabled, w.plasticity.yield_curvature, w.plasticity.hardening_slope,
-                 int(w.plasticity.hardening), c.wall_contact, c.self_contact, c.normal_stiffness, c.skin,
-                 c.exclusion_length, f.static_coefficient, f.dynamic_coefficient, f.wall_static_coefficient,
-                 f.wall_dynamic_coefficient, f.threshold_velocity, f.tangential_stiffness_ratio, i.speed,
-                 i.ramp_time, i.seed, i.perturbation, d.segment_length, d.time_step, d.time_step_factor,
-                 d.translational_damping, d.rotational_damping, s.keep_neutral_effects, d.axial_damping) +
-             (i.slow_start_length > 0
-                  ? fmt::format(" slow start {} {}", i.slow_start_speed, i.slow_start_length)
-                  : std::string()) +
-             (i.mirror_asymmetry != 1.0 ? fmt::format(" mirror asymmetry {}", i.mirror_asymmetry)
-                                        : std::string()) +
-             (f.surface_torque ? std::string(" surface torque") : std::string()) +
-             fmt::format(" {} {} {} {} {} {} {} {} {} {}", int(s.fem.formulation), s.fem.degree,
-                         s.fem.element_length, s.fem.shear_stiffness, s.fem.kirchhoff_penalty,
-                         int(s.fem.integrator), s.fem.spectral_radius, s.fem.time_step,
-                         s.fem.minimum_time_step, s.fem.newton_tolerance);
+      const auto lines = [](const std::string &text) {
+        std::map<std::string, std::string> m;
+        std::istringstream in(text);
+        for (std::string line; std::getline(in, line);)
+          if (const auto eq = line.find(" = "); eq != std::string::npos)
+            m[line.substr(0, eq)] = line.substr(eq + 3);
+        return m;
+      };
+      const auto a = lines(here), b = lines(there);
+      for (const auto &[key, value] : a)
+        if (const auto it = b.find(key); it == b.end() || it->second != value)
+          return fmt::format("{} is {} here and {} in the checkpoint", key, value,
+                             it == b.end() ? std::string("absent") : it->second);
+      for (const auto &[key, value] : b)
+        if (a.find(key) == a.end())
+          return fmt::format("{} is in the checkpoint but not in this scene", key);
+      return "different scene parameters";
     }
 
     void write_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, const LoopState &loop,
@@ -144,7 +139,7 @@ namespace wirefem::simulation
       {
         std::ofstream out(tmp, std::ios::binary);
         core::write_raw(out, checkpoint_magic);
-        const auto fp = fingerprint(scene);
+        const auto &fp = scene.fingerprint;
         core::write_raw(out, static_cast<std::uint64_t>(fp.size()));
         out.write(fp.data(), static_cast<std::streamsize>(fp.size()));
         core::write_raw(out, loop);
@@ -174,8 +169,9 @@ namespace wirefem::simulation
             throw std::runtime_error("not a wirefem checkpoint");
           std::string fp(core::read_raw<std::uint64_t>(in), ' ');
           in.read(fp.data(), static_cast<std::streamsize>(fp.size()));
-          if (fp != fingerprint(scene))
-            throw std::runtime_error("it was written for different scene parameters");
+          if (fp != scene.fingerprint)
+            throw std::runtime_error("it was written for other scene parameters: " +
+                                     first_difference(scene.fingerprint, fp));
           loop = core::read_raw<LoopState>(in);
           const auto n = core::read_raw<std::uint64_t>(in);
           for (std::uint64_t k = 0; k < n; ++k)

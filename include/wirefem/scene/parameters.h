@@ -238,6 +238,10 @@ namespace wirefem::scene
     FemParameters fem;
     OutputParameters output;
     bool keep_neutral_effects = false; ///< build effects even with neutral parameters
+    /// Every key outside Output with its value, one "Section/Key = value"
+    /// line each, sorted by key (read_scene): a checkpoint resumes only the
+    /// scene with the same fingerprint.
+    std::string fingerprint;
 
     /// Yield angle alpha_theta = kappa_theta * lambda_0 of the discrete model.
     double yield_angle() const { return wire.plasticity.yield_curvature * discrete.segment_length; }
