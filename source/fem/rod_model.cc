@@ -59,6 +59,34 @@ namespace wirefem::fem
       double max_overlap = 0;
       int n_wall = 0;
     };
+
+    /// What one assembly is asked for: the state at the end of the step, the
+    /// free range, and how the time integrator weights the parts.
+    struct AssemblyRequest
+    {
+      const dealii::Vector<double> *u = nullptr;       ///< positions and angles
+      const dealii::Vector<double> *a_blend = nullptr; ///< blended acceleration (inertia)
+      const dealii::Vector<double> *v0 = nullptr;      ///< the velocity is c_vel u + v0
+      double step = 0.0;                               ///< for the dashpot rates; 0: none
+      double c_vel = 0.0;
+      int first = 0, last = 0; ///< free nodes [first, last)
+      bool want_tangent = false;
+      double c_mass = 0.0;      ///< weight of the mass matrix in the tangent
+      double c_force = 1.0;     ///< weight of the forces in the tangent
+      double blend_force = 1.0; ///< weight of the conservative forces in the residual
+
+      /// The part of the velocity that does not depend on u, at node k.
+      core::Vec2 velocity0(const int k) const { return {(*v0)[3 * k], (*v0)[3 * k + 1]}; }
+      /// Weight of the friction (dissipative) part of a contact tangent.
+      double friction_scale() const { return c_force > 0 ? 1.0 / c_force : 1.0; }
+
+      AssemblyRequest without_tangent() const
+      {
+        AssemblyRequest r = *this;
+        r.want_tangent = false;
+        return r;
+      }
+    };
   } // namespace
 
   struct RodModel::Impl
@@ -144,12 +172,23 @@ namespace wirefem::fem
       return 0.5 * (l + r);
     }
 
-    /// Assembles at u1 (free range [first, last)). c_mass and c_stiff scale
-    /// the inertia and force parts of the tangent; with want_tangent the
-    /// matrix K (window dofs) is filled.
-    void evaluate(const dealii::Vector<double> &u1, const dealii::Vector<double> &a_blend, double step,
-                  double c_vel, const dealii::Vector<double> &v0, int first, int last, bool want_tangent,
-                  double c_mass, double c_force, double blend_force, Evaluation &e);
+    /// Assembles what the request asks for into e; with want_tangent the
+    /// matrix K (dofs of the free range) is filled. One function per
+    /// contribution, each adding to e and K.
+    void evaluate(const AssemblyRequest &rq, Evaluation &e);
+    void assemble_elements(const AssemblyRequest &rq, Evaluation &e);
+    void assemble_wall(const AssemblyRequest &rq, Evaluation &e);
+    void assemble_channel_walls(const AssemblyRequest &rq, Evaluation &e);
+    void assemble_self_contact(const AssemblyRequest &rq, Evaluation &e);
+    /// Adds scale * m (the square matrix on the global dofs g, row major)
+    /// to K, restricted to the free range.
+    void add_matrix(const AssemblyRequest &rq, const std::vector<int> &g, const double *m, double scale);
+    /// Adds a contact contribution on the nodes listed (x and y of each).
+    void add_contact(const AssemblyRequest &rq, const ContactContribution &cc, const std::vector<int> &nodes,
+                     Evaluation &e);
+    std::vector<dealii::types::global_dof_index> scratch_rows; ///< add_matrix
+    std::vector<int> scratch_pick;                             ///< add_matrix
+    dealii::FullMatrix<double> scratch_block;                  ///< add_matrix
     void rebuild_sparsity(int first, int last);
     bool solve_step(double step);
     bool check_tangent = false;  ///< compare the tangent with finite differences at the next predictor
@@ -430,7 +469,7 @@ namespace wirefem::fem
     if (inertia && !explicit_mode)
       {
         // M a0 = -f(u0) on the free dofs.
-        evaluate(u, zero, 0.0, 0.0, zero, first_free, last_free, true, 1.0, 0.0, 0.0, e);
+        evaluate({&u, &zero, &zero, 0.0, 0.0, first_free, last_free, true, 1.0, 0.0, 0.0}, e);
         dealii::Vector<double> rhs(3 * (last_free - first_free)), x(rhs.size());
         for (unsigned int i = 0; i < rhs.size(); ++i)
           rhs[i] = -e.force[3 * first_free + i];
@@ -441,7 +480,7 @@ namespace wirefem::fem
         f_old = e.force;
       }
     else
-      evaluate(u, zero, 0.0, 0.0, zero, first_free, last_free, false, 0.0, 1.0, 1.0, e);
+      evaluate({&u, &zero, &zero, 0.0, 0.0, first_free, last_free, false, 0.0, 1.0, 1.0}, e);
     // The strains of the initial shape are the reference of the first rates.
     qp = e.state;
     ledger.initial = e.axial + e.shear + e.bending;
@@ -566,12 +605,9 @@ namespace wirefem::fem
     sp_pairs = broad.candidates();
   }
 
-  void RodModel::Impl::evaluate(const dealii::Vector<double> &u1, const dealii::Vector<double> &a_blend,
-                                const double step, const double c_vel, const dealii::Vector<double> &v0,
-                                const int first, const int last, const bool want_tangent, const double c_mass,
-                                const double c_force, const double blend_force, Evaluation &e)
+  void RodModel::Impl::evaluate(const AssemblyRequest &rq, Evaluation &e)
   {
-    const unsigned int n_dofs = u1.size();
+    const unsigned int n_dofs = rq.u->size();
     e.residual.reinit(n_dofs);
     e.force.reinit(n_dofs);
     e.dissipative.reinit(n_dofs);
@@ -581,106 +617,122 @@ namespace wirefem::fem
     e.pairs.clear();
     e.axial = e.shear = e.bending = e.contact = e.plastic = e.max_overlap = 0;
     e.n_wall = 0;
-    if (want_tangent)
+    if (rq.want_tangent)
       {
-        if (first != sp_first || last != sp_last || broad.candidates() != sp_pairs)
-          rebuild_sparsity(first, last);
+        if (rq.first != sp_first || rq.last != sp_last || broad.candidates() != sp_pairs)
+          rebuild_sparsity(rq.first, rq.last);
         K = 0;
       }
-    const int lo = 3 * first, hi = 3 * last;
-    std::vector<dealii::types::global_dof_index> rows;
-    dealii::FullMatrix<double> block;
-    auto add_matrix = [&](const std::vector<int> &g, const double *m, const double scale) {
-      rows.clear();
-      std::vector<int> pick;
-      for (unsigned int i = 0; i < g.size(); ++i)
-        if (g[i] >= lo && g[i] < hi)
-          {
-            rows.push_back(g[i] - lo);
-            pick.push_back(i);
-          }
-      if (rows.empty())
-        return;
-      block.reinit(rows.size(), rows.size());
-      for (unsigned int i = 0; i < pick.size(); ++i)
-        for (unsigned int j = 0; j < pick.size(); ++j)
-          block(i, j) = scale * m[pick[i] * g.size() + pick[j]];
-      K.add(rows, block);
-    };
-
-    // Elements.
-    {
-      dealii::TimerOutput::Scope ts(timer, "assemble elements");
-      const unsigned int nd = n_local;
-      std::vector<int> g(nd);
-      std::vector<double> ue(nd), mat(nd * nd);
-      ElementResult er;
-      const double viscous_dt = viscous && step > 0 ? step : 0.0;
-      for (unsigned int c = 0; c < n_cells; ++c)
-        {
-          if (!cell_active(c, first, last))
-            continue;
-          for (unsigned int a_ = 0; a_ <= p; ++a_)
-            for (unsigned int cc = 0; cc < 3; ++cc)
-              {
-                g[3 * a_ + cc] = static_cast<int>(3 * cell_node[c][a_] + cc);
-                ue[3 * a_ + cc] = u1[g[3 * a_ + cc]];
-              }
-          const PointState *old = &qp[c * stiffness_shape.n_q];
-          evaluate_rod_element(stiffness_shape, section, law, ue.data(), old, viscous_dt, want_tangent, er,
-                               c_force > 0 ? 1.0 / c_force : 1.0);
-          for (unsigned int i = 0; i < nd; ++i)
-            {
-              // Elastic forces are blended over the step, the dissipative
-              // (viscous) ones act at the end of it: their work is exactly
-              // the dissipation the ledger records.
-              const double elastic = er.residual[i] - er.viscous_residual[i];
-              e.force[g[i]] += elastic;
-              e.dissipative[g[i]] += er.viscous_residual[i];
-              double inertial = 0;
-              if (inertia)
-                for (unsigned int j = 0; j < nd; ++j)
-                  inertial += element_mass[i * nd + j] * a_blend[g[j]];
-              e.residual[g[i]] += blend_force * elastic + er.viscous_residual[i] + inertial;
-            }
-          if (want_tangent)
-            {
-              for (unsigned int i = 0; i < nd * nd; ++i)
-                mat[i] = c_force * er.tangent[i] + (inertia ? c_mass * element_mass[i] : 0.0);
-              add_matrix(g, mat.data(), 1.0);
-            }
-          std::copy(er.state.begin(), er.state.end(), e.state.begin() + c * stiffness_shape.n_q);
-          e.axial += er.axial_energy;
-          e.shear += er.shear_energy;
-          e.bending += er.bending_energy;
-          e.plastic += er.plastic_work;
-        }
-    }
-
-    // Contact.
+    assemble_elements(rq, e);
     dealii::TimerOutput::Scope ts(timer, "assemble contact");
+    assemble_wall(rq, e);
+    assemble_channel_walls(rq, e);
+    assemble_self_contact(rq, e);
+  }
+
+  void RodModel::Impl::add_matrix(const AssemblyRequest &rq, const std::vector<int> &g, const double *m,
+                                  const double scale)
+  {
+    const int lo = 3 * rq.first, hi = 3 * rq.last;
+    scratch_rows.clear();
+    scratch_pick.clear();
+    for (unsigned int i = 0; i < g.size(); ++i)
+      if (g[i] >= lo && g[i] < hi)
+        {
+          scratch_rows.push_back(g[i] - lo);
+          scratch_pick.push_back(i);
+        }
+    if (scratch_rows.empty())
+      return;
+    scratch_block.reinit(scratch_rows.size(), scratch_rows.size());
+    for (unsigned int i = 0; i < scratch_pick.size(); ++i)
+      for (unsigned int j = 0; j < scratch_pick.size(); ++j)
+        scratch_block(i, j) = scale * m[scratch_pick[i] * g.size() + scratch_pick[j]];
+    K.add(scratch_rows, scratch_block);
+  }
+
+  void RodModel::Impl::add_contact(const AssemblyRequest &rq, const ContactContribution &cc,
+                                   const std::vector<int> &nodes, Evaluation &e)
+  {
+    std::vector<int> g;
+    for (const int k : nodes)
+      {
+        g.push_back(3 * k);
+        g.push_back(3 * k + 1);
+      }
+    for (unsigned int i = 0; i < g.size(); ++i)
+      {
+        const double normal = cc.residual[i] - cc.friction_residual[i];
+        e.force[g[i]] += normal;
+        e.friction[g[i]] += cc.friction_residual[i];
+        e.dissipative[g[i]] += cc.friction_residual[i];
+        e.residual[g[i]] += rq.blend_force * normal + cc.friction_residual[i];
+      }
+    if (rq.want_tangent)
+      add_matrix(rq, g, cc.tangent.data(), rq.c_force);
+    e.contact += cc.energy;
+    e.max_overlap = std::max(e.max_overlap, cc.overlap);
+  }
+
+  void RodModel::Impl::assemble_elements(const AssemblyRequest &rq, Evaluation &e)
+  {
+    const auto &u1 = *rq.u;
+    const int first = rq.first, last = rq.last;
+    const auto &a_blend = *rq.a_blend;
+    const double step = rq.step, c_mass = rq.c_mass, c_force = rq.c_force, blend_force = rq.blend_force;
+    const bool want_tangent = rq.want_tangent;
+    dealii::TimerOutput::Scope ts(timer, "assemble elements");
+    const unsigned int nd = n_local;
+    std::vector<int> g(nd);
+    std::vector<double> ue(nd), mat(nd * nd);
+    ElementResult er;
+    const double viscous_dt = viscous && step > 0 ? step : 0.0;
+    for (unsigned int c = 0; c < n_cells; ++c)
+      {
+        if (!cell_active(c, first, last))
+          continue;
+        for (unsigned int a_ = 0; a_ <= p; ++a_)
+          for (unsigned int cc = 0; cc < 3; ++cc)
+            {
+              g[3 * a_ + cc] = static_cast<int>(3 * cell_node[c][a_] + cc);
+              ue[3 * a_ + cc] = u1[g[3 * a_ + cc]];
+            }
+        const PointState *old = &qp[c * stiffness_shape.n_q];
+        evaluate_rod_element(stiffness_shape, section, law, ue.data(), old, viscous_dt, want_tangent, er,
+                             c_force > 0 ? 1.0 / c_force : 1.0);
+        for (unsigned int i = 0; i < nd; ++i)
+          {
+            // Elastic forces are blended over the step, the dissipative
+            // (viscous) ones act at the end of it: their work is exactly
+            // the dissipation the ledger records.
+            const double elastic = er.residual[i] - er.viscous_residual[i];
+            e.force[g[i]] += elastic;
+            e.dissipative[g[i]] += er.viscous_residual[i];
+            double inertial = 0;
+            if (inertia)
+              for (unsigned int j = 0; j < nd; ++j)
+                inertial += element_mass[i * nd + j] * a_blend[g[j]];
+            e.residual[g[i]] += blend_force * elastic + er.viscous_residual[i] + inertial;
+          }
+        if (want_tangent)
+          {
+            for (unsigned int i = 0; i < nd * nd; ++i)
+              mat[i] = c_force * er.tangent[i] + (inertia ? c_mass * element_mass[i] : 0.0);
+            add_matrix(rq, g, mat.data(), 1.0);
+          }
+        std::copy(er.state.begin(), er.state.end(), e.state.begin() + c * stiffness_shape.n_q);
+        e.axial += er.axial_energy;
+        e.shear += er.shear_energy;
+        e.bending += er.bending_energy;
+        e.plastic += er.plastic_work;
+      }
+  }
+
+  void RodModel::Impl::assemble_wall(const AssemblyRequest &rq, Evaluation &e)
+  {
+    const auto &u1 = *rq.u;
+    const int first = rq.first, last = rq.last;
     ContactContribution cc;
-    auto add_contact = [&](const std::vector<int> &nodes) {
-      std::vector<int> g;
-      for (const int k : nodes)
-        {
-          g.push_back(3 * k);
-          g.push_back(3 * k + 1);
-        }
-      for (unsigned int i = 0; i < g.size(); ++i)
-        {
-          const double normal = cc.residual[i] - cc.friction_residual[i];
-          e.force[g[i]] += normal;
-          e.friction[g[i]] += cc.friction_residual[i];
-          e.dissipative[g[i]] += cc.friction_residual[i];
-          e.residual[g[i]] += blend_force * normal + cc.friction_residual[i];
-        }
-      if (want_tangent)
-        add_matrix(g, cc.tangent.data(), c_force);
-      e.contact += cc.energy;
-      e.max_overlap = std::max(e.max_overlap, cc.overlap);
-    };
-    auto vel0 = [&](int k) { return Vec2{v0[3 * k], v0[3 * k + 1]}; };
     // Tangential channels: the wire in them (the end nodes behind each
     // inlet, y > 0 at the left and y < 0 at the right) is the channels',
     // and the wall is a closed circle (wall_settings.mouths).
@@ -691,14 +743,22 @@ namespace wirefem::fem
                 ? injection::nodes_past_tangential_inlets(first, last, [&](int k) { return u1[3 * k + 1]; })
                 : std::pair{first, last};
         for (int k = wall_first; k < wall_last; ++k)
-          if (wall_contact(radius, wall_settings, node_weight(k), position(u1, k), vel0(k), c_vel, cc,
-                           c_force > 0 ? 1.0 / c_force : 1.0))
+          if (wall_contact(radius, wall_settings, node_weight(k), position(u1, k), rq.velocity0(k), rq.c_vel,
+                           cc, rq.friction_scale()))
             {
-              add_contact({k});
+              add_contact(rq, cc, {k}, e);
               e.node_contact_force[k] += cc.normal_force;
               ++e.n_wall;
             }
       }
+  }
+
+  void RodModel::Impl::assemble_channel_walls(const AssemblyRequest &rq, Evaluation &e)
+  {
+    const auto &u1 = *rq.u;
+    const int first = rq.first, last = rq.last;
+    const double blend_force = rq.blend_force, c_force = rq.c_force;
+    const bool want_tangent = rq.want_tangent;
     // The channel walls (as ChannelTerm of the discrete model): a lateral
     // spring k_c per length on the part of the wire inside a channel, energy
     // (k_c/2) times the integral of y^2 over the part of each element with
@@ -752,10 +812,17 @@ namespace wirefem::fem
                 }
               e.contact += energy;
               if (want_tangent)
-                add_matrix(g, mat.data(), c_force);
+                add_matrix(rq, g, mat.data(), c_force);
             }
         }
     }
+  }
+
+  void RodModel::Impl::assemble_self_contact(const AssemblyRequest &rq, Evaluation &e)
+  {
+    const auto &u1 = *rq.u;
+    const int first = rq.first, last = rq.last;
+    ContactContribution cc;
     if (scene.contact.self_contact)
       {
         // Node-to-segment contact, both ways: the first node of each
@@ -769,7 +836,7 @@ namespace wirefem::fem
         // (point_stretch_contact: every segment within reach presses it,
         // less the nodes shared by two of them).
         const int first_segment = first - 1, last_segment = last + 1 - 2; // nodes [first - 1, last + 1)
-        const double fs = c_force > 0 ? 1.0 / c_force : 1.0;
+        const double fs = rq.friction_scale();
         const auto at = [&](const int k) { return position(u1, k); };
         const auto allowed = [&](const int node, const int s) {
           return s >= first_segment && s <= last_segment && std::abs(s - node) > exclusion;
@@ -779,14 +846,14 @@ namespace wirefem::fem
             {
               const int node = a_on_b ? pr.i : pr.j, seg = a_on_b ? pr.j : pr.i;
               const std::array<Vec2, 3> x{{at(node), at(seg), at(seg + 1)}};
-              const std::array<Vec2, 3> w0{{vel0(node), vel0(seg), vel0(seg + 1)}};
+              const std::array<Vec2, 3> w0{{rq.velocity0(node), rq.velocity0(seg), rq.velocity0(seg + 1)}};
               double tc, fv;
-              const bool touch = point_stretch_contact(self_settings, 0.5 * node_weight(node), x, w0, c_vel,
-                                                       allowed(node, seg + 1), cc, tc, fv, fs);
+              const bool touch = point_stretch_contact(self_settings, 0.5 * node_weight(node), x, w0,
+                                                       rq.c_vel, allowed(node, seg + 1), cc, tc, fv, fs);
               e.max_overlap = std::max(e.max_overlap, cc.overlap);
               if (!touch)
                 continue;
-              add_contact({node, seg, seg + 1});
+              add_contact(rq, cc, {node, seg, seg + 1}, e);
               e.node_contact_force[node] += cc.normal_force - fv;
               e.node_contact_force[seg] += (1.0 - tc) * cc.normal_force;
               e.node_contact_force[seg + 1] += tc * cc.normal_force - fv;
@@ -832,7 +899,7 @@ namespace wirefem::fem
     Evaluation e;
     const dealii::Vector<double> zero(n);
     wall_time = t;
-    evaluate(u, zero, step, 0.0, v, first_free, last_free, false, 0.0, 1.0, 1.0, e);
+    evaluate({&u, &zero, &v, step, 0.0, first_free, last_free, false, 0.0, 1.0, 1.0}, e);
     std::vector<double> mass(n, 0.0);
     for (unsigned int c = 0; c < n_cells; ++c)
       if (cell_active(c, first_free, last_free))
@@ -886,6 +953,7 @@ namespace wirefem::fem
     };
     const double c_mass = inertia ? (1.0 - alpha_m) / (beta * step * step) : 0.0;
     const double c_force = 1.0 - alpha_f;
+    const AssemblyRequest rq{&u1, &a_blend, &v0, step, c_vel, first, last, true, c_mass, c_force, c_force};
     const double scale = scene.wire.axial_stiffness;
     const double tol = scene.fem.newton_tolerance * scale;
     const int lo = 3 * first, nw = 3 * (last - first);
@@ -913,7 +981,7 @@ namespace wirefem::fem
     Evaluation e, trial;
     dealii::Vector<double> rhs(nw), dx(nw);
     kinematics();
-    evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, e);
+    evaluate(rq, e);
     if (check_tangent)
       {
         // Central differences of the assembled residual, column by column.
@@ -928,7 +996,7 @@ namespace wirefem::fem
               {
                 u1[lo + j] = keep + sign * eps;
                 kinematics();
-                evaluate(u1, a_blend, step, c_vel, v0, first, last, false, c_mass, c_force, c_force, trial);
+                evaluate(rq.without_tangent(), trial);
                 for (int i = 0; i < nw; ++i)
                   rp[i] += sign * trial.residual[lo + i] / (2 * eps);
               }
@@ -942,7 +1010,7 @@ namespace wirefem::fem
           }
         tangent_error = worst / largest;
         kinematics();
-        evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, e);
+        evaluate(rq, e);
       }
     double res = residual_norm(e);
     history.push_back(res);
@@ -971,7 +1039,7 @@ namespace wirefem::fem
         for (int i = 0; i < nw; ++i)
           u1[lo + i] = u_start[lo + i] + dx[i];
         kinematics();
-        evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, trial);
+        evaluate(rq, trial);
         double r_new = residual_norm(trial);
         if (r_new < (1.0 - 1e-4) * res)
           {
@@ -986,12 +1054,12 @@ namespace wirefem::fem
                 for (int i = 0; i < nw; ++i)
                   u1[lo + i] = u_start[lo + i] + lambda * dx[i];
                 kinematics();
-                evaluate(u1, a_blend, step, c_vel, v0, first, last, false, c_mass, c_force, c_force, trial);
+                evaluate(rq.without_tangent(), trial);
                 r_new = residual_norm(trial);
                 if (r_new < (1.0 - 1e-4 * lambda) * res)
                   break;
               }
-            evaluate(u1, a_blend, step, c_vel, v0, first, last, true, c_mass, c_force, c_force, e);
+            evaluate(rq, e);
             res = residual_norm(e);
           }
         history.push_back(res);
