@@ -87,6 +87,28 @@ namespace wirefem::fem
         return r;
       }
     };
+
+    /// The end-of-step state of an implicit step as the Newton iteration
+    /// moves u1: v1 = c_vel u1 + v0 and a1 = (u1 - u_hat) / (beta step^2)
+    /// (zero without inertia), a_blend = (1 - alpha_m) a1 + alpha_m a_n.
+    struct StepState
+    {
+      dealii::Vector<double> u1, v1, a1, v0, a_blend, u_hat;
+      const dealii::Vector<double> *a_n = nullptr;
+      double step = 0.0, c_vel = 0.0, beta = 0.25, alpha_m = 0.0;
+      bool inertia = true;
+
+      /// v1, a1 and a_blend from u1.
+      void update()
+      {
+        for (unsigned int i = 0; i < u1.size(); ++i)
+          {
+            a1[i] = inertia ? (u1[i] - u_hat[i]) / (beta * step * step) : 0.0;
+            v1[i] = c_vel * u1[i] + v0[i];
+            a_blend[i] = (1.0 - alpha_m) * a1[i] + alpha_m * (*a_n)[i];
+          }
+      }
+    };
   } // namespace
 
   struct RodModel::Impl
@@ -153,6 +175,14 @@ namespace wirefem::fem
     std::ostringstream timer_stream;
 
     explicit Impl(const scene::Scene &s);
+    /// The mesh of the whole wire that can ever enter, numbered node by node
+    /// along the wire; node coordinates and the element mass matrix.
+    void build_mesh(const scene::Scene &s);
+    /// Section, material, contact settings, the effects of the run, and the
+    /// time integrator's parameters and step.
+    void build_physics(const scene::Scene &s);
+    /// The seeded shape at rest, its initial acceleration and stored energy.
+    void set_initial_state(const scene::Scene &s);
 
     int node_dof(unsigned int node, unsigned int c) const { return static_cast<int>(3 * node + c); }
     double left_inlet_S(double time) const { return a_left - channels.injected_per_channel(time); }
@@ -191,6 +221,12 @@ namespace wirefem::fem
     dealii::FullMatrix<double> scratch_block;                  ///< add_matrix
     void rebuild_sparsity(int first, int last);
     bool solve_step(double step);
+    /// The predictor of an implicit step of length `step` (free range
+    /// [first, last)), with its kinematics.
+    void predict(double step, int first, int last, StepState &x) const;
+    /// max |K - K_fd| / max |K| at x.u1, K assembled there and K_fd the
+    /// central differences of the assembled residual (tests).
+    double tangent_error_at(const AssemblyRequest &rq, StepState &x);
     bool check_tangent = false;  ///< compare the tangent with finite differences at the next predictor
     double tangent_error = -1.0; ///< max |K - K_fd| / max |K| found there
     void explicit_step(double step);
@@ -240,6 +276,13 @@ namespace wirefem::fem
     , fe(dealii::FE_Q<1, 2>(s.fem.degree), 3)
     , broad(1.0, s.contact.skin, 1)
     , timer(timer_stream, dealii::TimerOutput::never, dealii::TimerOutput::wall_times)
+  {
+    build_mesh(s);
+    build_physics(s);
+    set_initial_state(s);
+  }
+
+  void RodModel::Impl::build_mesh(const scene::Scene &s)
   {
     // The wire the channels can ever push in: phi_max pi r^2 inside, plus
     // two elements of margin in each channel.
@@ -329,7 +372,10 @@ namespace wirefem::fem
           for (unsigned int c = 0; c < 3; ++c)
             element_mass[(3 * i + c) * nd + 3 * j + c] += mass_shape.weight[q] * mass_shape.value(q, i) *
                                                           mass_shape.value(q, j) * (c < 2 ? rhoA : rhoI);
+  }
 
+  void RodModel::Impl::build_physics(const scene::Scene &s)
+  {
     // Section and material.
     const auto &w = s.wire;
     section.EA = w.axial_stiffness;
@@ -411,7 +457,11 @@ namespace wirefem::fem
     dt = dt_max;
     for (int side = 0; side < 2; ++side)
       window[side].length = h / p;
+  }
 
+  void RodModel::Impl::set_initial_state(const scene::Scene &s)
+  {
+    const double L0 = channels.initial_length();
     // Initial state: straight in the channels, the seeded shape across the
     // cavity, at rest.
     const unsigned int n_dofs = dof_handler.n_dofs();
@@ -922,6 +972,66 @@ namespace wirefem::fem
     commit(step, first, last, u1, v1, a1, e, first_free, last_free);
   }
 
+  void RodModel::Impl::predict(const double step, const int first, const int last, StepState &x) const
+  {
+    // Constant acceleration for the free dofs, the channel motion for the
+    // prescribed ones.
+    const unsigned int n = u.size();
+    x.u1 = u;
+    x.v1.reinit(n);
+    x.a1.reinit(n);
+    x.v0.reinit(n);
+    x.a_blend.reinit(n);
+    x.u_hat.reinit(n);
+    for (unsigned int i = 0; i < n; ++i)
+      x.u1[i] = u[i] + step * v[i] + 0.5 * step * step * a[i];
+    prescribe(t + step, x.u1, nullptr, nullptr, first, last);
+    x.step = step;
+    x.c_vel = inertia ? gamma / (beta * step) : 1.0 / step;
+    x.beta = beta;
+    x.alpha_m = alpha_m;
+    x.inertia = inertia;
+    x.a_n = &a;
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        x.u_hat[i] = u[i] + step * v[i] + step * step * (0.5 - beta) * a[i];
+        x.v0[i] = inertia ? v[i] + step * (1.0 - gamma) * a[i] - x.c_vel * x.u_hat[i] : -u[i] / step;
+      }
+    x.update();
+  }
+
+  double RodModel::Impl::tangent_error_at(const AssemblyRequest &rq, StepState &x)
+  {
+    // Central differences of the assembled residual, column by column,
+    // against the tangent K assembled at x.u1.
+    const int lo = 3 * rq.first, nw = 3 * (rq.last - rq.first);
+    Evaluation trial;
+    double worst = 0, largest = 0;
+    const double eps = 1e-7;
+    for (int j = 0; j < nw; ++j)
+      {
+        const double keep = x.u1[lo + j];
+        dealii::Vector<double> rp(nw);
+        for (const double sign : {1.0, -1.0})
+          {
+            x.u1[lo + j] = keep + sign * eps;
+            x.update();
+            evaluate(rq.without_tangent(), trial);
+            for (int i = 0; i < nw; ++i)
+              rp[i] += sign * trial.residual[lo + i] / (2 * eps);
+          }
+        x.u1[lo + j] = keep;
+        for (int i = 0; i < nw; ++i)
+          {
+            const double kij = K.el(i, j);
+            worst = std::max(worst, std::abs(kij - rp[i]));
+            largest = std::max(largest, std::abs(kij));
+          }
+      }
+    x.update();
+    return worst / largest;
+  }
+
   bool RodModel::Impl::solve_step(const double step)
   {
     const double t1 = t + step;
@@ -929,31 +1039,13 @@ namespace wirefem::fem
     int first, last;
     free_range(t1, first, last);
     const unsigned int n = u.size();
-    // Predictor: constant acceleration for the free dofs, the channel motion
-    // for the prescribed ones.
-    dealii::Vector<double> u1(u), v1(n), a1(n), v0(n), a_blend(n);
-    for (unsigned int i = 0; i < n; ++i)
-      u1[i] = u[i] + step * v[i] + 0.5 * step * step * a[i];
-    prescribe(t1, u1, nullptr, nullptr, first, last);
-    // v1 = c u1 + v0 and a1 = (u1 - u_hat) / (beta step^2).
-    const double c_vel = inertia ? gamma / (beta * step) : 1.0 / step;
-    dealii::Vector<double> u_hat(n);
-    for (unsigned int i = 0; i < n; ++i)
-      {
-        u_hat[i] = u[i] + step * v[i] + step * step * (0.5 - beta) * a[i];
-        v0[i] = inertia ? v[i] + step * (1.0 - gamma) * a[i] - c_vel * u_hat[i] : -u[i] / step;
-      }
-    auto kinematics = [&]() {
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          a1[i] = inertia ? (u1[i] - u_hat[i]) / (beta * step * step) : 0.0;
-          v1[i] = c_vel * u1[i] + v0[i];
-          a_blend[i] = (1.0 - alpha_m) * a1[i] + alpha_m * a[i];
-        }
-    };
+    StepState x;
+    predict(step, first, last, x);
+    auto &u1 = x.u1;
     const double c_mass = inertia ? (1.0 - alpha_m) / (beta * step * step) : 0.0;
     const double c_force = 1.0 - alpha_f;
-    const AssemblyRequest rq{&u1, &a_blend, &v0, step, c_vel, first, last, true, c_mass, c_force, c_force};
+    const AssemblyRequest rq{&u1,  &x.a_blend, &x.v0,  step,    x.c_vel, first,
+                             last, true,       c_mass, c_force, c_force};
     const double scale = scene.wire.axial_stiffness;
     const double tol = scene.fem.newton_tolerance * scale;
     const int lo = 3 * first, nw = 3 * (last - first);
@@ -971,45 +1063,20 @@ namespace wirefem::fem
 
     {
       dealii::TimerOutput::Scope ts(timer, "contact search");
-      std::vector<Vec2> x(n_nodes);
+      std::vector<Vec2> xs(n_nodes);
       for (unsigned int k = 0; k < n_nodes; ++k)
-        x[k] = position(u, k);
-      broad.update(x, first - 1, last + 1);
+        xs[k] = position(u, k);
+      broad.update(xs, first - 1, last + 1);
     }
 
     history.clear();
     Evaluation e, trial;
     dealii::Vector<double> rhs(nw), dx(nw);
-    kinematics();
     evaluate(rq, e);
     if (check_tangent)
       {
-        // Central differences of the assembled residual, column by column.
         check_tangent = false;
-        double worst = 0, largest = 0;
-        const double eps = 1e-7;
-        for (int j = 0; j < nw; ++j)
-          {
-            const double keep = u1[lo + j];
-            dealii::Vector<double> rp(nw);
-            for (const double sign : {1.0, -1.0})
-              {
-                u1[lo + j] = keep + sign * eps;
-                kinematics();
-                evaluate(rq.without_tangent(), trial);
-                for (int i = 0; i < nw; ++i)
-                  rp[i] += sign * trial.residual[lo + i] / (2 * eps);
-              }
-            u1[lo + j] = keep;
-            for (int i = 0; i < nw; ++i)
-              {
-                const double kij = K.el(i, j);
-                worst = std::max(worst, std::abs(kij - rp[i]));
-                largest = std::max(largest, std::abs(kij));
-              }
-          }
-        tangent_error = worst / largest;
-        kinematics();
+        tangent_error = tangent_error_at(rq, x);
         evaluate(rq, e);
       }
     double res = residual_norm(e);
@@ -1020,7 +1087,7 @@ namespace wirefem::fem
           {
             for (unsigned int i = 0; i < n; ++i)
               e.residual[i] += alpha_f * f_old[i];
-            commit(step, first, last, u1, v1, a1, e, first, last);
+            commit(step, first, last, u1, x.v1, x.a1, e, first, last);
             return true;
           }
         if (!std::isfinite(res))
@@ -1038,7 +1105,7 @@ namespace wirefem::fem
         double lambda = 1.0;
         for (int i = 0; i < nw; ++i)
           u1[lo + i] = u_start[lo + i] + dx[i];
-        kinematics();
+        x.update();
         evaluate(rq, trial);
         double r_new = residual_norm(trial);
         if (r_new < (1.0 - 1e-4) * res)
@@ -1053,7 +1120,7 @@ namespace wirefem::fem
                 lambda *= 0.5;
                 for (int i = 0; i < nw; ++i)
                   u1[lo + i] = u_start[lo + i] + lambda * dx[i];
-                kinematics();
+                x.update();
                 evaluate(rq.without_tangent(), trial);
                 r_new = residual_norm(trial);
                 if (r_new < (1.0 - 1e-4 * lambda) * res)
