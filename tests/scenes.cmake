@@ -191,6 +191,15 @@ add_test(NAME scripts.morphology_scan
 set_tests_properties(scripts.morphology_scan PROPERTIES LABELS regression PROCESSORS 2
                      PASS_REGULAR_EXPRESSION "\\| default \\| 0\\.[0-9]+ \\| (yes|no) \\| [0-9.]+ \\|[^\n]*\n\\| elastic, slower \\| 0\\.[0-9]+ \\| (yes|no) \\| [0-9.]+ \\|"
                      FAIL_REGULAR_EXPRESSION "no summary")
+# scripts/models-back-to-back.sh: both models on one small scene, a row each
+# and the ratio of their wall times.
+add_test(NAME scripts.models_back_to_back
+         COMMAND ${CMAKE_COMMAND} -E env WIREFEM=${WIREFEM_EXE} OUT=${SCENE_OUT}/back_to_back REPEAT=1
+                 bash ${CMAKE_SOURCE_DIR}/scripts/models-back-to-back.sh ${CMAKE_SOURCE_DIR}/prm/quick.prm
+                 --set Cavity/Radius=6 "--set=Injection/Maximum packing density=0.2")
+set_tests_properties(scripts.models_back_to_back PROPERTIES LABELS regression
+                     PASS_REGULAR_EXPRESSION "\\| discrete \\| 0 \\| [^\n]*\n\\| fem \\| 0 \\| [^\n]*\n\nFEM / chain wall time: [0-9.]+"
+                     FAIL_REGULAR_EXPRESSION "no summary")
 # ... and its overrides reached the run: plasticity is active in the default
 # case only.
 add_test(NAME scripts.morphology_scan_overrides
