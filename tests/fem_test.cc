@@ -514,6 +514,50 @@ namespace
                                   });
   }
 
+  TEST(FemContact, HandDerivedPointSegmentTangentAgreesWithAutomaticDifferentiation)
+  {
+    // Random points near random segments: interior and clamped closest
+    // points, friction off and on (sticking and sliding velocities), and
+    // the friction weighted in the tangent.
+    std::mt19937 gen(17);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), speed(-0.05, 0.05);
+    int compared = 0, interior = 0;
+    while (compared < 400)
+      {
+        const std::array<Vec2, 3> x{{{u(gen), u(gen)}, {u(gen), u(gen)}, {u(gen), u(gen)}}};
+        const std::array<Vec2, 3> v0{
+            {{speed(gen), speed(gen)}, {speed(gen), speed(gen)}, {speed(gen), speed(gen)}}};
+        const bool friction = compared % 2;
+        const double fs = compared % 4 == 3 ? 0.3 : 1.0, c = compared % 3 ? 40.0 : 0.0;
+        fem::ContactContribution hand, ad;
+        double th, ta;
+        const bool touch = fem::point_segment_contact(settings(friction), 0.5, x, v0, c, hand, th, fs);
+        ASSERT_EQ(touch, fem::point_segment_contact_by_ad(settings(friction), 0.5, x, v0, c, ad, ta, fs));
+        if (!touch)
+          continue;
+        ++compared;
+        interior += th > 0.0 && th < 1.0;
+        EXPECT_EQ(th, ta);
+        double largest = 0.0, worst = 0.0, rworst = 0.0, rlargest = 0.0;
+        for (int i = 0; i < 36; ++i)
+          {
+            largest = std::max(largest, std::abs(ad.tangent[i]));
+            worst = std::max(worst, std::abs(ad.tangent[i] - hand.tangent[i]));
+          }
+        for (int i = 0; i < 6; ++i)
+          {
+            rlargest = std::max(rlargest, std::abs(ad.residual[i]));
+            rworst = std::max(rworst, std::abs(ad.residual[i] - hand.residual[i]) +
+                                          std::abs(ad.friction_residual[i] - hand.friction_residual[i]));
+          }
+        EXPECT_LT(worst, 1e-10 * largest) << "friction " << friction << ", t = " << th;
+        EXPECT_LT(rworst, 1e-12 * rlargest);
+        EXPECT_NEAR(hand.energy, ad.energy, 1e-10 * ad.energy); // g = d - |x0 - q| in another order
+      }
+    EXPECT_GT(interior, 100);
+    EXPECT_LT(interior, 380) << "too few clamped closest points";
+  }
+
   TEST(FemContact, PointForceIsTheGradientAndTangentTheDerivative)
   {
     const std::array<Vec2, 2> x{{{0.1, 0.2}, {0.7, 0.9}}};

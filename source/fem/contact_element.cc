@@ -235,9 +235,9 @@ namespace wirefem::fem
     /// Point x[0] against the segment x[1]-x[2] (n = 3) or the point x[1]
     /// (n = 2): penalty on the overlap with the closest point q, regularised
     /// friction on the relative velocity of x[0] and q.
-    bool point_contact(const ContactSettings &s, const double weight, const int n, const Vec2 *x,
-                       const Vec2 *v0, const double c, ContactContribution &out, double &t_out,
-                       const double friction_scale)
+    bool point_contact_by_ad(const ContactSettings &s, const double weight, const int n, const Vec2 *x,
+                             const Vec2 *v0, const double c, ContactContribution &out, double &t_out,
+                             const double friction_scale)
     {
       const int nd = 2 * n;
       out = ContactContribution{};
@@ -310,11 +310,136 @@ namespace wirefem::fem
     }
   } // namespace
 
+  namespace
+  {
+    /// point_contact_by_ad with the derivatives by hand. With share
+    /// (1, -(1 - t), -t) (or (1, -1) against a point), d = x0 - q = sum_m
+    /// share_m x_m, n = d / |d|, g = D - |d|, f_n = k g, the residual is
+    /// r_m = -share_m (f_n n + f_t tau), tau = R n (R: +90 degrees), and
+    ///   d share_1 = dt, d share_2 = -dt (interior t; 0 when clamped),
+    ///   d f_n / d x_j = -k share_j n, d n / d x_j = (share_j P - e dt_j^T) / |d|,
+    ///   P = I - n n^T, e = x2 - x1 (n is normal to e at an interior t),
+    ///   dt/dx0 = e / |e|^2, dt/dx2 = (w - 2 t e) / |e|^2, dt/dx1 = -(dt/dx0 + dt/dx2), w = x0 - x1.
+    bool point_contact(const ContactSettings &s, const double weight, const int n, const Vec2 *x,
+                       const Vec2 *v0, const double c, ContactContribution &out, double &t_out,
+                       const double friction_scale)
+    {
+      const int nd = 2 * n;
+      out = ContactContribution{};
+      out.n_points = n;
+      Vec2 e{0.0, 0.0};
+      double t = 0.0;
+      std::array<Vec2, 3> dt{}; // dt / dx_j
+      if (n == 3)
+        {
+          e = x[2] - x[1];
+          const Vec2 w = x[0] - x[1];
+          const double ee = dot(e, e);
+          t = dot(w, e) / ee;
+          if (t <= 0.0)
+            t = 0.0;
+          else if (t >= 1.0)
+            t = 1.0;
+          else
+            {
+              dt[0] = (1.0 / ee) * e;
+              dt[2] = (1.0 / ee) * (w - 2.0 * t * e);
+              dt[1] = -1.0 * (dt[0] + dt[2]);
+            }
+        }
+      t_out = t;
+      const Vec2 q = x[1] + t * e;
+      const Vec2 d = x[0] - q;
+      const double dist = norm(d);
+      if (dist >= s.diameter)
+        return false;
+      out.overlap = s.diameter - dist;
+      if (dist < 1e-12 * s.diameter)
+        return false;
+      const Vec2 nn = (1.0 / dist) * d;
+      const Vec2 tau{-nn.y, nn.x};
+      const double k = s.stiffness * weight, g = s.diameter - dist, fn = k * g;
+      const double share[3] = {1.0, n == 3 ? -(1.0 - t) : -1.0, -t};
+      const double dshare[3] = {0.0, 1.0, -1.0}; // times dt
+      // d n_a / d x_{j,b}, a and b the components.
+      const auto dn = [&](const int j, const int a, const int b) {
+        const double P = (a == b ? 1.0 : 0.0) - (a ? nn.y : nn.x) * (b ? nn.y : nn.x);
+        return (share[j] * P - (a ? e.y : e.x) * (b ? dt[j].y : dt[j].x)) / dist;
+      };
+      const auto comp = [](const Vec2 &v, const int a) { return a ? v.y : v.x; };
+      // Friction: f_t = friction(f_n, v_t), v_t = tau . sum_m share_m v_m, v_m = c x_m + v0_m.
+      double ft = 0.0, dft_dfn = 0.0, dft_dvt = 0.0;
+      Vec2 vrel{0.0, 0.0}, v1{0.0, 0.0}, v2{0.0, 0.0};
+      if (s.friction)
+        {
+          for (int m = 0; m < n; ++m)
+            vrel = vrel + share[m] * (c * x[m] + v0[m]);
+          if (n == 3)
+            v1 = c * x[1] + v0[1], v2 = c * x[2] + v0[2];
+          const double vt = dot(vrel, tau);
+          const double vth = std::max(s.threshold_velocity, 1e-9);
+          const double ex = std::exp(-std::abs(vt) / vth);
+          const double mu = s.mu_dynamic + (s.mu_static - s.mu_dynamic) * ex;
+          const double th = std::tanh(vt / vth);
+          const double dmu = -(s.mu_static - s.mu_dynamic) * ex * (vt > 0 ? 1.0 : vt < 0 ? -1.0 : 0.0) / vth;
+          ft = -mu * fn * th;
+          dft_dfn = -mu * th;
+          dft_dvt = -fn * (dmu * th + mu * (1.0 - th * th) / vth);
+        }
+      for (int m = 0; m < n; ++m)
+        for (int a = 0; a < 2; ++a)
+          {
+            const double rf = -share[m] * ft * comp(tau, a);
+            out.friction_residual[2 * m + a] = rf;
+            out.residual[2 * m + a] = -share[m] * fn * comp(nn, a) + rf;
+          }
+      for (int j = 0; j < n; ++j)
+        for (int b = 0; b < 2; ++b)
+          {
+            const int col = 2 * j + b;
+            const double dfn = -k * share[j] * comp(nn, b);
+            const double dtj = comp(dt[j], b);
+            // d tau = R d n: d tau_x = -d n_y, d tau_y = d n_x.
+            const double dtau[2] = {-dn(j, 1, b), dn(j, 0, b)};
+            double dft = 0.0;
+            if (s.friction)
+              {
+                // d v_rel / d x_{j,b} = c share_j e_b + (v1 - v2) dt_j,b
+                const Vec2 dv =
+                    Vec2{b == 0 ? c * share[j] : 0.0, b == 1 ? c * share[j] : 0.0} + dtj * (v1 - v2);
+                const double dvt = dot(dv, tau) + vrel.x * dtau[0] + vrel.y * dtau[1];
+                dft = dft_dfn * dfn + dft_dvt * dvt;
+              }
+            for (int m = 0; m < n; ++m)
+              for (int a = 0; a < 2; ++a)
+                {
+                  const double ds = dshare[m] * dtj;
+                  const double normal =
+                      -(ds * fn * comp(nn, a) + share[m] * dfn * comp(nn, a) + share[m] * fn * dn(j, a, b));
+                  const double friction =
+                      -(ds * ft * comp(tau, a) + share[m] * dft * comp(tau, a) + share[m] * ft * dtau[a]);
+                  out.tangent[(2 * m + a) * nd + col] = normal + friction_scale * friction;
+                }
+          }
+      out.normal_force = fn;
+      out.energy = 0.5 * k * g * g;
+      return true;
+    }
+  } // namespace
+
   bool point_segment_contact(const ContactSettings &s, const double weight, const std::array<Vec2, 3> &x,
                              const std::array<Vec2, 3> &v0, const double c, ContactContribution &out,
                              double &t_out, const double friction_scale)
   {
     return point_contact(s, weight, 3, x.data(), v0.data(), c, out, t_out, friction_scale);
+  }
+
+  bool point_segment_contact_by_ad(const ContactSettings &s, const double weight,
+                                   const std::array<Vec2, 3> &x, const std::array<Vec2, 3> &v0,
+                                   const double c, ContactContribution &out, double &t_out,
+                                   const double friction_scale)
+  {
+    return point_contact_by_ad(s, weight, 3, x.data(), v0.data(), c, out, t_out, friction_scale);
   }
 
   bool point_point_contact(const ContactSettings &s, const double weight, const std::array<Vec2, 2> &x,

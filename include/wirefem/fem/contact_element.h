@@ -92,6 +92,13 @@ namespace wirefem::fem
                              const std::array<core::Vec2, 3> &v0, double c, ContactContribution &out,
                              double &t, double friction_scale = 1.0);
 
+  /// point_segment_contact with its tangent by automatic differentiation
+  /// (Sacado): the oracle of the hand-derived tangent in tests.
+  bool point_segment_contact_by_ad(const ContactSettings &s, double weight,
+                                   const std::array<core::Vec2, 3> &x, const std::array<core::Vec2, 3> &v0,
+                                   double c, ContactContribution &out, double &t,
+                                   double friction_scale = 1.0);
+
   /// Point x[0] against point x[1]: the penalty and friction of
   /// point_segment_contact for a segment shrunk to the point x[1]. Returns
   /// false when they are d or
