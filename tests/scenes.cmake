@@ -165,6 +165,12 @@ foreach(scene classic plastic)
   set_tests_properties(scene.fem_${scene}_f15_jams PROPERTIES LABELS stress TIMEOUT 2400)
 endforeach()
 
+add_test(NAME scene.damaged_checkpoint_refused
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/damaged_checkpoint.sh ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm
+                 ${SCENE_OUT}/damaged_checkpoint)
+set_tests_properties(scene.damaged_checkpoint_refused PROPERTIES LABELS regression
+                     PASS_REGULAR_EXPRESSION "PASS:" FAIL_REGULAR_EXPRESSION "FAIL:")
+
 add_test(NAME scene.interrupt_and_resume
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/interrupt_resume.sh ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm
                  ${SCENE_OUT}/resume)

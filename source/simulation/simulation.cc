@@ -92,6 +92,21 @@ namespace wirefem::simulation
     }
 
     constexpr std::uint64_t checkpoint_magic = 0x77666d72756e3031ull; // "wfmrun01"
+    /// Layout of checkpoint.bin: magic, version, payload size, FNV-1a 64
+    /// checksum of the payload, payload (fingerprint, loop state, pvd
+    /// entries, the model's state).
+    constexpr std::uint64_t checkpoint_version = 2;
+
+    std::uint64_t fnv1a(const std::string &bytes)
+    {
+      std::uint64_t h = 0xcbf29ce484222325ull;
+      for (const unsigned char c : bytes)
+        {
+          h ^= c;
+          h *= 0x100000001b3ull;
+        }
+      return h;
+    }
 
     /// What the run loop carries from step to step besides the model.
     struct LoopState
@@ -137,8 +152,7 @@ namespace wirefem::simulation
       // writing leaves the previous checkpoint intact.
       const auto tmp = file.string() + ".tmp";
       {
-        std::ofstream out(tmp, std::ios::binary);
-        core::write_raw(out, checkpoint_magic);
+        std::ostringstream out(std::ios::binary);
         const auto &fp = scene.fingerprint;
         core::write_raw(out, static_cast<std::uint64_t>(fp.size()));
         out.write(fp.data(), static_cast<std::streamsize>(fp.size()));
@@ -151,7 +165,14 @@ namespace wirefem::simulation
             out.write(name.data(), static_cast<std::streamsize>(name.size()));
           }
         model.save(out);
-        if (!out)
+        const std::string payload = out.str();
+        std::ofstream file_out(tmp, std::ios::binary);
+        core::write_raw(file_out, checkpoint_magic);
+        core::write_raw(file_out, checkpoint_version);
+        core::write_raw(file_out, static_cast<std::uint64_t>(payload.size()));
+        core::write_raw(file_out, fnv1a(payload));
+        file_out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
+        if (!file_out)
           throw std::runtime_error("cannot write " + tmp);
       }
       std::filesystem::rename(tmp, file);
@@ -167,21 +188,42 @@ namespace wirefem::simulation
         {
           if (core::read_raw<std::uint64_t>(in) != checkpoint_magic)
             throw std::runtime_error("not a wirefem checkpoint");
-          std::string fp(core::read_raw<std::uint64_t>(in), ' ');
-          in.read(fp.data(), static_cast<std::streamsize>(fp.size()));
+          if (const auto version = core::read_raw<std::uint64_t>(in); version != checkpoint_version)
+            throw std::runtime_error(
+                fmt::format("checkpoint version {}, this wirefem reads {}", version, checkpoint_version));
+          const auto size = core::read_raw<std::uint64_t>(in);
+          const auto checksum = core::read_raw<std::uint64_t>(in);
+          const auto at = in.tellg();
+          in.seekg(0, std::ios::end);
+          const auto available = static_cast<std::uint64_t>(in.tellg() - at);
+          in.seekg(at);
+          if (size != available)
+            throw std::runtime_error(
+                fmt::format("damaged: {} bytes of state where {} were written", available, size));
+          std::string payload(size, '\0');
+          in.read(payload.data(), static_cast<std::streamsize>(size));
+          if (!in || fnv1a(payload) != checksum)
+            throw std::runtime_error("damaged: its checksum does not match its contents");
+          std::istringstream state(payload, std::ios::binary);
+          std::string fp(core::read_raw<std::uint64_t>(state), ' ');
+          state.read(fp.data(), static_cast<std::streamsize>(fp.size()));
           if (fp != scene.fingerprint)
             throw std::runtime_error("it was written for other scene parameters: " +
                                      first_difference(scene.fingerprint, fp));
-          loop = core::read_raw<LoopState>(in);
-          const auto n = core::read_raw<std::uint64_t>(in);
+          loop = core::read_raw<LoopState>(state);
+          const auto n = core::read_raw<std::uint64_t>(state);
           for (std::uint64_t k = 0; k < n; ++k)
             {
-              const auto time = core::read_raw<double>(in);
-              std::string name(core::read_raw<std::uint64_t>(in), ' ');
-              in.read(name.data(), static_cast<std::streamsize>(name.size()));
+              const auto time = core::read_raw<double>(state);
+              std::string name(core::read_raw<std::uint64_t>(state), ' ');
+              state.read(name.data(), static_cast<std::streamsize>(name.size()));
               pvd.add(time, name);
             }
-          model.load(in);
+          model.load(state);
+          if (state.peek() != std::char_traits<char>::eof())
+            throw std::runtime_error("damaged: state left over after the model");
+          if (!model.finite())
+            throw std::runtime_error("damaged: the state read back is not finite");
         }
       catch (const std::runtime_error &e)
         {
