@@ -376,15 +376,12 @@ namespace wirefem::fem
             vrel = vrel + share[m] * (c * x[m] + v0[m]);
           if (n == 3)
             v1 = c * x[1] + v0[1], v2 = c * x[2] + v0[2];
-          const double vt = dot(vrel, tau);
-          const double vth = std::max(s.threshold_velocity, 1e-9);
-          const double ex = std::exp(-std::abs(vt) / vth);
-          const double mu = s.mu_dynamic + (s.mu_static - s.mu_dynamic) * ex;
-          const double th = std::tanh(vt / vth);
-          const double dmu = -(s.mu_static - s.mu_dynamic) * ex * (vt > 0 ? 1.0 : vt < 0 ? -1.0 : 0.0) / vth;
-          ft = -mu * fn * th;
-          dft_dfn = -mu * th;
-          dft_dvt = -fn * (dmu * th + mu * (1.0 - th * th) / vth);
+          // The law and its two partial derivatives from its one definition.
+          using Fad2 = Sacado::Fad::SFad<double, 2>;
+          const Fad2 f = friction_force<Fad2>(s, Fad2(2, 0, fn), Fad2(2, 1, dot(vrel, tau)));
+          ft = f.val();
+          dft_dfn = f.dx(0);
+          dft_dvt = f.dx(1);
         }
       for (int m = 0; m < n; ++m)
         for (int a = 0; a < 2; ++a)
@@ -399,8 +396,9 @@ namespace wirefem::fem
             const int col = 2 * j + b;
             const double dfn = -k * share[j] * comp(nn, b);
             const double dtj = comp(dt[j], b);
+            const double dnj[2] = {dn(j, 0, b), dn(j, 1, b)};
             // d tau = R d n: d tau_x = -d n_y, d tau_y = d n_x.
-            const double dtau[2] = {-dn(j, 1, b), dn(j, 0, b)};
+            const double dtau[2] = {-dnj[1], dnj[0]};
             double dft = 0.0;
             if (s.friction)
               {
@@ -415,7 +413,7 @@ namespace wirefem::fem
                 {
                   const double ds = dshare[m] * dtj;
                   const double normal =
-                      -(ds * fn * comp(nn, a) + share[m] * dfn * comp(nn, a) + share[m] * fn * dn(j, a, b));
+                      -(ds * fn * comp(nn, a) + share[m] * dfn * comp(nn, a) + share[m] * fn * dnj[a]);
                   const double friction =
                       -(ds * ft * comp(tau, a) + share[m] * dft * comp(tau, a) + share[m] * ft * dtau[a]);
                   out.tangent[(2 * m + a) * nd + col] = normal + friction_scale * friction;

@@ -160,6 +160,7 @@ namespace wirefem::fem
     SparseDirect lu;
     std::vector<int> lu_order; ///< entry of K (storage order) for each entry of the sorted CSR
     std::vector<double> lu_values;
+    std::vector<double> lu_stored, lu_rhs, lu_solution; ///< solve_linear's scratch
     /// Factorises K and solves K x = rhs; false when K is singular.
     bool solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
     int sp_first = -1, sp_last = -1;
@@ -539,23 +540,19 @@ namespace wirefem::fem
   bool RodModel::Impl::solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x)
   {
     // K's values in storage order, row by row, as rebuild_sparsity numbered them.
-    std::vector<double> stored(lu_values.size());
+    lu_stored.resize(lu_values.size());
     std::size_t k = 0;
     for (unsigned int i = 0; i < K.m(); ++i)
       for (auto it = K.begin(i); it != K.end(i); ++it)
-        stored[k++] = it->value();
+        lu_stored[k++] = it->value();
     for (std::size_t j = 0; j < lu_order.size(); ++j)
-      lu_values[j] = stored[lu_order[j]];
+      lu_values[j] = lu_stored[lu_order[j]];
     if (!lu.factorise(lu_values))
       return false;
-    std::vector<double> b(rhs.begin(), rhs.end()), y;
-    if (!lu.solve(b, y))
+    lu_rhs.assign(rhs.begin(), rhs.end());
+    if (!lu.solve(lu_rhs, lu_solution))
       return false;
-    for (unsigned int i = 0; i < x.size(); ++i)
-      x[i] = y[i];
-    for (const double v : y)
-      if (!std::isfinite(v))
-        return false;
+    std::copy(lu_solution.begin(), lu_solution.end(), x.begin());
     return true;
   }
 

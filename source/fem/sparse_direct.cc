@@ -112,23 +112,26 @@ namespace wirefem::fem
     if (!klu_tsolve(m.symbolic, m.numeric, m.n, 1, x.data(), &m.common))
       return false;
     double bmax = 0.0, rmax = 0.0;
+    bool finite = true;
     for (int i = 0; i < m.n; ++i)
       {
         double r = b[i];
         for (int k = m.row_start[i]; k < m.row_start[i + 1]; ++k)
           r -= m.values[k] * x[m.columns[k]];
+        finite = finite && std::isfinite(x[i]) && std::isfinite(r);
         bmax = std::max(bmax, std::abs(b[i]));
         rmax = std::max(rmax, std::abs(r));
       }
-    if (std::isfinite(rmax) && rmax <= 1e-10 * bmax)
+    if (finite && rmax <= 1e-10 * bmax)
       return true;
     if (m.last_full)
-      return std::isfinite(rmax);
+      return finite;
     ++stats.inaccurate;
     ++stats.factorisations;
     if (!m.full())
       return false;
     x = b;
-    return klu_tsolve(m.symbolic, m.numeric, m.n, 1, x.data(), &m.common);
+    return klu_tsolve(m.symbolic, m.numeric, m.n, 1, x.data(), &m.common) &&
+           std::all_of(x.begin(), x.end(), [](const double v) { return std::isfinite(v); });
   }
 } // namespace wirefem::fem

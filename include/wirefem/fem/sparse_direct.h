@@ -33,7 +33,7 @@ namespace wirefem::fem
     /// Solves A x = b for the last factorisation. When the residual
     /// |b - A x| exceeds 1e-10 |b| (max norms) after a refactorisation, the
     /// matrix is factorised afresh with pivoting and solved again. Returns
-    /// false when the matrix is singular.
+    /// false when the matrix is singular or the solution is not finite.
     bool solve(const std::vector<double> &b, std::vector<double> &x);
 
     struct Statistics
