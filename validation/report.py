@@ -296,7 +296,9 @@ def main():
              f"Generated {datetime.date.today().isoformat()} at commit {commit or 'unknown'} by "
              "`scripts/validation-report.sh` (runs `ctest -L validation`, then `validation/report.py`). "
              "Wall times are single runs on a shared 2-core machine: read ratios, not absolute values.", "",
-             "## Cases", "", "| # | case | status |", "|---|---|---|"]
+             "## Cases", "",
+             "Solvers: the class (or function) that ran the case, from each run's summary.json (`solver`).", "",
+             "| # | case | status | solvers |", "|---|---|---|---|"]
     studies = {}
     for name in sorted(os.listdir(results_dir)) if os.path.isdir(results_dir) else []:
         f = os.path.join(results_dir, name, "results.json")
@@ -308,7 +310,10 @@ def main():
             status = "passes" if not studies[study]["failures"] else "FAILS (see below)"
         else:
             status = "not run" if study else ("measured" if "measured" in title else "not implemented yet")
-        lines.append(f"| {num} | {title} | {status} |")
+        solvers = sorted({json.load(open(f)).get("solver", "not recorded")
+                          for f in glob.glob(os.path.join(results_dir, study, "**", "summary.json"),
+                                             recursive=True)}) if study else []
+        lines.append(f"| {num} | {title} | {status} | {', '.join(f'`{x}`' for x in solvers) or '-'} |")
     lines.append("")
     for study, res in studies.items():
         figs = []

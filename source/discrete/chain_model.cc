@@ -21,6 +21,16 @@ namespace wirefem::discrete
     , channels(scene.cavity.radius, scene.injection.speed, scene.injection.ramp_time,
                scene.injection.slow_start_speed, scene.injection.slow_start_length)
   {
+    if (scene.setup == scene::Setup::cantilever)
+      build_clamped(scene);
+    else if (scene.setup == scene::Setup::capstan)
+      build_capstan(scene);
+    else
+      build_injected(scene);
+  }
+
+  void ChainModel::build_injected(const scene::Scene &scene)
+  {
     const double k1 = scene.wire.axial_stiffness / lambda0;
     const double mass = scene.wire.mass_per_length * lambda0;
     const auto &con = scene.contact;
@@ -241,6 +251,17 @@ namespace wirefem::discrete
 
   void ChainModel::step()
   {
+    if (clamped)
+      {
+        clamped_forces();
+        clamped_advance();
+        return;
+      }
+    if (capstan_loading)
+      {
+        capstan_step();
+        return;
+      }
     auto &c = nodes;
     std::fill(c.f.begin() + c.first, c.f.begin() + c.last, Vec2{});
     std::fill(c.contact_force.begin() + c.first, c.contact_force.begin() + c.last, 0.0);
@@ -426,6 +447,8 @@ namespace wirefem::discrete
 {
   std::string ChainModel::description() const
   {
+    if (clamped)
+      return fmt::format("{} segments, dt = {:.4g}, drag gamma = {:.4g}", nodes.last - 1, dt, drag);
     return fmt::format("lambda_0 = {}, dt = {:.4g} (explicit)", lambda0, dt);
   }
 } // namespace wirefem::discrete

@@ -459,6 +459,7 @@ namespace wirefem::simulation
     const auto &e = model.energies();
     nlohmann::json j;
     j["model"] = model.name();
+    j["solver"] = solver_name(model);
     j["scene"] = scene.name;
     j["cavity_radius"] = scene.cavity.radius;
     j["phi_final"] = result.phi_final;

@@ -35,7 +35,7 @@ which differ by O(zeta^2); both are computed here from the run's geometry.
   The FEM runs mu_d = mu_st only: with mu_d < mu_st the slip is a dynamic
   event that equilibria cannot follow (see below).
 
-- The rod FEM in steady sliding (velocity control; quasi-static, fem/capstan.h): the
+- The rod FEM in steady sliding (velocity control; quasi-static, fem::RodModel): the
   same sliding cases at degree 1 (h = 2 ... 0.125) and 2 (h = 1 ... 0.25).
   Its friction law is regularised, mu(v) tanh(v / v_th); at the push speed
   it mobilises the coefficient mu_V (`sliding_coefficient`, 0.2404 for

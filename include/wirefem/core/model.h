@@ -6,8 +6,11 @@
 
 #include <wirefem/core/wire_state.h>
 
+#include <array>
 #include <iosfwd>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace wirefem::core
@@ -46,6 +49,31 @@ namespace wirefem::core
     int n_wall_contacts = 0;
   };
 
+  /// A static equilibrium under a loading scaled by a load factor (Set-up =
+  /// cantilever: the rod clamped at one end and loaded at the other).
+  struct Equilibrium
+  {
+    bool converged = false;
+    double residual = 0.0;           ///< largest free nodal force / the loading's force scale
+    double tip_x = 0.0, tip_y = 0.0; ///< the loaded end (d)
+    double tip_rotation = 0.0;       ///< direction angle of the rod at the loaded end
+    std::vector<double> S, x, y;     ///< nodes from the clamp to the loaded end
+  };
+
+  /// What a capstan loading shows (Set-up = capstan: a wire on the wall
+  /// over a wrap angle, pushed along it against a compressive end force).
+  struct CapstanState
+  {
+    double wrap_angle = 0.0;     ///< angle the frictional contacts cover (rad)
+    double pushed = 0.0;         ///< distance the trailing end was pushed (d)
+    double push_force = 0.0;     ///< axial force at the pushed end (compression positive)
+    double lead_slide = 0.0;     ///< arc distance the leading end moved (clockwise positive, d)
+    double trailing_compression = 0.0; ///< at the first segment (quadrature point)
+    double max_penetration = 0.0;      ///< largest wall overlap / d
+    /// Angle from the leading end, compression: per segment (quadrature point).
+    std::vector<std::array<double, 2>> profile;
+  };
+
   class Model
   {
   public:
@@ -75,6 +103,18 @@ namespace wirefem::core
     virtual bool finite() const = 0;
     /// The wire from the left inlet to the right inlet, with per-point fields.
     virtual core::WireState wire_state() const = 0;
+
+    /// Brings the wire from its current state to static equilibrium under
+    /// the loading scaled by load_factor, each model by its own solver
+    /// (loadings with a load factor only; the others throw).
+    virtual Equilibrium equilibrate(double /*load_factor*/)
+    {
+      throw std::logic_error("this loading has no load factor");
+    }
+    /// The capstan loading's observables at the current time (the others throw).
+    virtual CapstanState capstan_state() const { throw std::logic_error("this loading is not a capstan"); }
+    /// Model-specific figures of the run for summary.json (name, value).
+    virtual std::vector<std::pair<std::string, double>> statistics() const { return {}; }
 
     /// Writes the whole dynamic state so that a model built from the same
     /// scene continues bit for bit after load().

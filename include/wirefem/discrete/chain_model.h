@@ -1,4 +1,5 @@
-// The discrete spring model of the paper, injected from two channels: builds
+// The discrete spring model of the paper, injected from two channels (or,
+// with Set-up = cantilever, clamped at one end and loaded at the other): builds
 // the terms (effects) a scene calls for, integrates the equations of motion
 // explicitly (semi-implicit Euler), feeds new nodes in at the inlets, and
 // keeps the energy ledger.
@@ -21,6 +22,8 @@
 namespace wirefem::discrete
 {
   class BendingTerm;
+  class EndLoadTerm;
+  class EndThrustTerm;
   class SelfContactTerm;
 
   using core::EnergyLedger;
@@ -64,6 +67,18 @@ namespace wirefem::discrete
     /// The wire from the left inlet to the right inlet, with per-point fields.
     core::WireState wire_state() const override;
 
+    /// Set-up = cantilever: dynamic relaxation to the equilibrium at
+    /// load_factor. The load ramps linearly from the current factor over
+    /// Cantilever/Load time / Points per leg; explicit steps with a
+    /// mass-proportional drag (critical for the first mode unless
+    /// Cantilever/Damping is set) run until the largest free nodal force is
+    /// below Cantilever/Tolerance of the force scale.
+    core::Equilibrium equilibrate(double load_factor) override;
+    /// Set-up = capstan: the chain on the wall, its pushed end moved along
+    /// it (velocity control) or pushed by a rising force (force control).
+    core::CapstanState capstan_state() const override;
+    std::vector<std::pair<std::string, double>> statistics() const override;
+
     /// Writes the whole dynamic state (chain, histories, ledger) so that a
     /// model built from the same scene continues bit for bit after load().
     void save(std::ostream &out) const override;
@@ -71,6 +86,20 @@ namespace wirefem::discrete
     void load(std::istream &in) override;
 
   private:
+    void build_injected(const scene::Scene &scene);
+    void build_clamped(const scene::Scene &scene);
+    void build_capstan(const scene::Scene &scene);
+    /// One explicit step of the capstan loading.
+    void capstan_step();
+    /// Velocity control: nodes 0 and 1 where the push has taken them at t.
+    void place_pushed_nodes();
+    double capstan_push(double time) const;
+    /// The clamp loading's forces at the current load factor; returns the
+    /// largest free nodal force.
+    double clamped_forces();
+    /// One explicit step of the clamp loading with the forces of
+    /// clamped_forces() (semi-implicit Euler, the drag at the step's midpoint).
+    void clamped_advance();
     void place_initial_wire(const scene::Scene &scene);
     void feed_channels();
 
@@ -81,6 +110,23 @@ namespace wirefem::discrete
     std::vector<std::unique_ptr<Term>> terms;
     BendingTerm *bending = nullptr;
     SelfContactTerm *self_contact = nullptr;
+    /// The clamp loading (Set-up = cantilever).
+    bool clamped = false;
+    EndLoadTerm *end_load = nullptr;
+    scene::CantileverParameters cantilever;
+    double load_factor = 0.0, drag = 0.0, force_scale = 1.0;
+    /// The capstan loading (Set-up = capstan).
+    bool capstan_loading = false;
+    scene::CapstanParameters capstan;
+    struct CapstanState
+    {
+      double Rc = 0.0, zeta = 0.0, mu_static = 0.0, mu_dynamic = 0.0;
+      int frictional = 0, first_free = 0;
+      std::vector<core::Vec2> x0;
+      EndThrustTerm *lead = nullptr, *push = nullptr;
+      double roller_r = 0.0, roller_vr = 0.0;
+    } cap;
+    double stretching_stiffness = 0.0; ///< k1
     std::vector<std::string> effects;
     int left_origin = 0;  // storage index of the node at the left inlet at t = 0
     int right_origin = 0; // same, right

@@ -6,6 +6,10 @@
 // Newton, line search and an adaptive step, a deal.II sparse matrix and
 // KLU (fem::SparseDirect).
 //
+// The loading is the injection or, with Set-up = cantilever, the clamp: the
+// rod held at one end and loaded at the other, followed statically along its
+// load history.
+//
 // Injection as a moving boundary: the mesh holds the whole wire that can ever
 // enter, at rest length, with material coordinate S. At time t the material
 // in the channels (S outside (s_L(t), s_R(t))) is prescribed - straight on
@@ -46,6 +50,13 @@ namespace wirefem::fem
     const std::vector<std::string> &active_effects() const override;
     bool finite() const override;
     core::WireState wire_state() const override;
+    /// Set-up = cantilever: load increments from the current load factor,
+    /// each a quasi-static Newton step; halved where Newton fails, where a
+    /// section turns by more than 0.25 rad or where the path would jump from
+    /// a stable to an unstable branch.
+    core::Equilibrium equilibrate(double load_factor) override;
+    core::CapstanState capstan_state() const override;
+    std::vector<std::pair<std::string, double>> statistics() const override;
     void save(std::ostream &out) const override;
     void load(std::istream &in) override;
     void print_timing(std::ostream &out) const override;

@@ -1,0 +1,388 @@
+#include "rod_model_impl.h"
+
+namespace wirefem::fem
+{
+  bool RodModel::Impl::solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x)
+  {
+    return factorise_K() && solve_factorised(rhs, x);
+  }
+
+  bool RodModel::Impl::factorise_K()
+  {
+    // K's values in storage order, row by row, as rebuild_sparsity numbered them.
+    lu_stored.resize(lu_values.size());
+    std::size_t k = 0;
+    for (unsigned int i = 0; i < K.m(); ++i)
+      for (auto it = K.begin(i); it != K.end(i); ++it)
+        lu_stored[k++] = it->value();
+    for (std::size_t j = 0; j < lu_order.size(); ++j)
+      lu_values[j] = lu_stored[lu_order[j]];
+    return lu.factorise(lu_values);
+  }
+
+  bool RodModel::Impl::solve_factorised(const dealii::Vector<double> &rhs, dealii::Vector<double> &x)
+  {
+    lu_rhs.assign(rhs.begin(), rhs.end());
+    if (!lu.solve(lu_rhs, lu_solution))
+      return false;
+    std::copy(lu_solution.begin(), lu_solution.end(), x.begin());
+    return true;
+  }
+
+  void RodModel::Impl::rebuild_sparsity(const int first, const int last)
+  {
+    const int lo = 3 * first, n = 3 * (last - first);
+    dealii::DynamicSparsityPattern dsp(n, n);
+    auto couple = [&](const std::vector<int> &nodes) {
+      for (const int ka : nodes)
+        for (const int kb : nodes)
+          if (ka >= first && ka < last && kb >= first && kb < last)
+            for (int ca = 0; ca < 3; ++ca)
+              for (int cb = 0; cb < 3; ++cb)
+                dsp.add(3 * ka + ca - lo, 3 * kb + cb - lo);
+    };
+    for (unsigned int c = 0; c < n_cells; ++c)
+      if (cell_active(c, first, last))
+        couple(std::vector<int>(cell_node[c].begin(), cell_node[c].end()));
+    for (const auto &pr : broad.candidates())
+      couple({pr.i, pr.i + 1, pr.j, pr.j + 1});
+    sparsity.copy_from(dsp);
+    K.reinit(sparsity);
+    // Sorted rows for KLU (deal.II keeps the diagonal first in each row).
+    const int nr = static_cast<int>(sparsity.n_rows());
+    std::vector<int> row_start(nr + 1, 0), columns;
+    lu_order.clear();
+    std::vector<std::pair<int, int>> row;
+    int entry = 0;
+    for (int i = 0; i < nr; ++i)
+      {
+        row.clear();
+        for (auto it = sparsity.begin(i); it != sparsity.end(i); ++it)
+          row.emplace_back(static_cast<int>(it->column()), entry++);
+        std::sort(row.begin(), row.end());
+        for (const auto &[col, at] : row)
+          {
+            columns.push_back(col);
+            lu_order.push_back(at);
+          }
+        row_start[i + 1] = static_cast<int>(columns.size());
+      }
+    lu_values.resize(columns.size());
+    lu.analyse(nr, std::move(row_start), std::move(columns));
+    sp_first = first;
+    sp_last = last;
+    sp_pairs = broad.candidates();
+  }
+
+  void RodModel::Impl::evaluate(const AssemblyRequest &rq, Evaluation &e)
+  {
+    const unsigned int n_dofs = rq.u->size();
+    e.residual.reinit(n_dofs);
+    e.force.reinit(n_dofs);
+    e.dissipative.reinit(n_dofs);
+    e.friction.reinit(n_dofs);
+    e.state.assign(qp.size(), PointState{});
+    e.node_contact_force.assign(n_nodes, 0.0);
+    e.pairs.clear();
+    e.axial = e.shear = e.bending = e.contact = e.plastic = e.max_overlap = 0;
+    e.push_force = 0;
+    e.wall_history.clear();
+    e.n_wall = 0;
+    if (rq.want_tangent)
+      {
+        if (rq.first != sp_first || rq.last != sp_last || broad.candidates() != sp_pairs)
+          rebuild_sparsity(rq.first, rq.last);
+        K = 0;
+      }
+    assemble_elements(rq, e);
+    if (clamped)
+      {
+        assemble_end_load(e);
+        return;
+      }
+    if (capstan)
+      assemble_capstan_loads(rq, e);
+    dealii::TimerOutput::Scope ts(timer, "assemble contact");
+    assemble_wall(rq, e);
+    if (capstan)
+      {
+        constrain_trailing_end(rq, e);
+        return;
+      }
+    assemble_channel_walls(rq, e);
+    assemble_self_contact(rq, e);
+  }
+
+  void RodModel::Impl::assemble_end_load(Evaluation &e) const
+  {
+    // A dead force on the last node and a moment on its section angle
+    // (conservative in the plane).
+    const auto &cl = scene.cantilever;
+    const unsigned int tip = n_nodes - 1;
+    const double load[3] = {cl.end_force_x, cl.end_force_y, cl.end_moment};
+    for (unsigned int c = 0; c < 3; ++c)
+      {
+        e.residual[3 * tip + c] -= load_factor * load[c];
+        e.force[3 * tip + c] -= load_factor * load[c];
+      }
+  }
+
+  void RodModel::Impl::add_matrix(const AssemblyRequest &rq, const std::vector<int> &g, const double *m,
+                                  const double scale)
+  {
+    const int lo = 3 * rq.first, hi = 3 * rq.last;
+    scratch_rows.clear();
+    scratch_pick.clear();
+    for (unsigned int i = 0; i < g.size(); ++i)
+      if (g[i] >= lo && g[i] < hi)
+        {
+          scratch_rows.push_back(g[i] - lo);
+          scratch_pick.push_back(i);
+        }
+    if (scratch_rows.empty())
+      return;
+    scratch_block.reinit(scratch_rows.size(), scratch_rows.size());
+    for (unsigned int i = 0; i < scratch_pick.size(); ++i)
+      for (unsigned int j = 0; j < scratch_pick.size(); ++j)
+        scratch_block(i, j) = scale * m[scratch_pick[i] * g.size() + scratch_pick[j]];
+    K.add(scratch_rows, scratch_block);
+  }
+
+  void RodModel::Impl::add_contact(const AssemblyRequest &rq, const ContactContribution &cc,
+                                   const std::vector<int> &nodes, Evaluation &e)
+  {
+    std::vector<int> g;
+    for (const int k : nodes)
+      {
+        g.push_back(3 * k);
+        g.push_back(3 * k + 1);
+      }
+    for (unsigned int i = 0; i < g.size(); ++i)
+      {
+        const double normal = cc.residual[i] - cc.friction_residual[i];
+        e.force[g[i]] += normal;
+        e.friction[g[i]] += cc.friction_residual[i];
+        e.dissipative[g[i]] += cc.friction_residual[i];
+        e.residual[g[i]] += rq.blend_force * normal + cc.friction_residual[i];
+      }
+    if (rq.want_tangent)
+      add_matrix(rq, g, cc.tangent.data(), rq.c_force);
+    e.contact += cc.energy;
+    e.max_overlap = std::max(e.max_overlap, cc.overlap);
+  }
+
+  void RodModel::Impl::assemble_elements(const AssemblyRequest &rq, Evaluation &e)
+  {
+    const auto &u1 = *rq.u;
+    const int first = rq.first, last = rq.last;
+    const auto &a_blend = *rq.a_blend;
+    const double step = rq.step, c_mass = rq.c_mass, c_force = rq.c_force, blend_force = rq.blend_force;
+    const bool want_tangent = rq.want_tangent;
+    dealii::TimerOutput::Scope ts(timer, "assemble elements");
+    const unsigned int nd = n_local;
+    std::vector<int> g(nd);
+    std::vector<double> ue(nd), mat(nd * nd);
+    ElementResult er;
+    const double viscous_dt = viscous && step > 0 ? step : 0.0;
+    for (unsigned int c = 0; c < n_cells; ++c)
+      {
+        if (!cell_active(c, first, last))
+          continue;
+        for (unsigned int a_ = 0; a_ <= p; ++a_)
+          for (unsigned int cc = 0; cc < 3; ++cc)
+            {
+              g[3 * a_ + cc] = static_cast<int>(3 * cell_node[c][a_] + cc);
+              ue[3 * a_ + cc] = u1[g[3 * a_ + cc]];
+            }
+        const PointState *old = &qp[c * stiffness_shape.n_q];
+        evaluate_rod_element(stiffness_shape, section, law, ue.data(), old, viscous_dt, want_tangent, er,
+                             c_force > 0 ? 1.0 / c_force : 1.0);
+        for (unsigned int i = 0; i < nd; ++i)
+          {
+            // Elastic forces are blended over the step, the dissipative
+            // (viscous) ones act at the end of it: their work is exactly
+            // the dissipation the ledger records.
+            const double elastic = er.residual[i] - er.viscous_residual[i];
+            e.force[g[i]] += elastic;
+            e.dissipative[g[i]] += er.viscous_residual[i];
+            double inertial = 0;
+            if (inertia)
+              for (unsigned int j = 0; j < nd; ++j)
+                inertial += element_mass[i * nd + j] * a_blend[g[j]];
+            e.residual[g[i]] += blend_force * elastic + er.viscous_residual[i] + inertial;
+          }
+        if (want_tangent)
+          {
+            for (unsigned int i = 0; i < nd * nd; ++i)
+              mat[i] = c_force * er.tangent[i] + (inertia ? c_mass * element_mass[i] : 0.0);
+            add_matrix(rq, g, mat.data(), 1.0);
+          }
+        std::copy(er.state.begin(), er.state.end(), e.state.begin() + c * stiffness_shape.n_q);
+        e.axial += er.axial_energy;
+        e.shear += er.shear_energy;
+        e.bending += er.bending_energy;
+        e.plastic += er.plastic_work;
+      }
+  }
+
+  void RodModel::Impl::assemble_wall(const AssemblyRequest &rq, Evaluation &e)
+  {
+    const auto &u1 = *rq.u;
+    const int first = rq.first, last = rq.last;
+    ContactContribution cc;
+    // Tangential channels: the wire in them (the end nodes behind each
+    // inlet, y > 0 at the left and y < 0 at the right) is the channels',
+    // and the wall is a closed circle (wall_settings.mouths).
+    if (scene.contact.wall_contact)
+      {
+        const auto [wall_first, wall_last] =
+            channels.is_tangential()
+                ? injection::nodes_past_tangential_inlets(first, last, [&](int k) { return u1[3 * k + 1]; })
+                : std::pair{first, last};
+        const bool spring = cap.spring && rq.step > 0.0;
+        if (spring)
+          e.wall_history.assign(n_nodes, contact::FrictionHistory{});
+        for (int k = wall_first; k < wall_last; ++k)
+          if (spring ? wall_spring_contact(rq, k, cc, e)
+                     : wall_contact(radius, wall_settings, node_weight(k), position(u1, k), rq.velocity0(k),
+                                    rq.c_vel, cc, rq.friction_scale()))
+            {
+              add_contact(rq, cc, {k}, e);
+              e.node_contact_force[k] += cc.normal_force;
+              ++e.n_wall;
+            }
+      }
+  }
+
+  bool RodModel::Impl::wall_spring_contact(const AssemblyRequest &rq, const int k, ContactContribution &cc,
+                                           Evaluation &e) const
+  {
+    // The spring law (capstan only): a sticking spring per wall contact,
+    // whose history is the last accepted step's; the trial is kept in e.
+    SpringFriction sf;
+    const bool touching =
+        wall_contact_spring(radius, wall_settings, node_weight(k), scene.contact.friction.tangential_stiffness_ratio,
+                            position(*rq.u, k), position(u, k), rq.step, cap.history[k], cc, sf);
+    if (touching)
+      e.wall_history[k] = sf.history;
+    return touching;
+  }
+
+  void RodModel::Impl::assemble_channel_walls(const AssemblyRequest &rq, Evaluation &e)
+  {
+    const auto &u1 = *rq.u;
+    const int first = rq.first, last = rq.last;
+    const double blend_force = rq.blend_force, c_force = rq.c_force;
+    const bool want_tangent = rq.want_tangent;
+    // The channel walls (as ChannelTerm of the discrete model): a lateral
+    // spring k_c per length on the part of the wire inside a channel, energy
+    // (k_c/2) times the integral of y^2 over the part of each element with
+    // s < 0, s the distance past the mouth along the channel axis and y the
+    // offset from it. The mouth is fixed in space, so the energy depends on
+    // the positions only and the wire leaving a channel is let go
+    // continuously and without loss. The cut xi* (s = 0) of an element
+    // crossing the mouth is found by bisection; the gradient carries the
+    // moving-end term (k_c/2) y(xi*)^2 h dxi*/dx, and the tangent of such an
+    // element is the central difference of that gradient.
+    {
+      const auto &pos = stiffness_shape.node_position;
+      const unsigned int nn = p + 1, nd = 2 * nn;
+      std::vector<int> g(nd);
+      std::vector<double> X(nd), grad(nd), mat(nd * nd);
+      for (const Side side : {Side::left, Side::right})
+        {
+          const double cut = side == Side::left ? left_inlet_S(wall_time) : right_inlet_S(wall_time);
+          const Vec2 inlet = channels.inlet(side), ax = channels.axis(side), n = perp(ax);
+          // Only the wire near the mouth in material terms can be in a
+          // channel, and only elements with a free node (deeper than hold
+          // behind the mouth) take part.
+          const int c_lo = std::max(0, static_cast<int>(std::floor((cut - hold) / h)) - 1);
+          const int c_hi =
+              std::min(static_cast<int>(n_cells) - 1, static_cast<int>(std::floor((cut + hold) / h)) + 1);
+          for (int ci = c_lo; ci <= c_hi; ++ci)
+            {
+              const unsigned int c = static_cast<unsigned int>(ci);
+              const double x0 = c * h, x1 = x0 + h;
+              if ((side == Side::left ? x0 > cut + hold : x1 < cut - hold) || !cell_active(c, first, last))
+                continue;
+              for (unsigned int a_ = 0; a_ < nn; ++a_)
+                {
+                  const Vec2 r = position(u1, cell_node[c][a_]) - inlet;
+                  X[2 * a_] = r.x;
+                  X[2 * a_ + 1] = r.y;
+                  g[2 * a_] = static_cast<int>(3 * cell_node[c][a_]);
+                  g[2 * a_ + 1] = g[2 * a_] + 1;
+                }
+              double energy;
+              if (!channel_wall_element(pos, h, k_channel, X.data(), ax, energy, grad.data(),
+                                        want_tangent ? mat.data() : nullptr))
+                continue;
+              for (unsigned int a_ = 0; a_ < nn; ++a_)
+                if (dot(Vec2{X[2 * a_], X[2 * a_ + 1]}, ax) < 0.0)
+                  e.max_overlap = std::max(e.max_overlap, std::abs(dot(Vec2{X[2 * a_], X[2 * a_ + 1]}, n)));
+              for (unsigned int i = 0; i < nd; ++i)
+                {
+                  e.force[g[i]] += grad[i];
+                  e.residual[g[i]] += blend_force * grad[i];
+                }
+              e.contact += energy;
+              if (want_tangent)
+                add_matrix(rq, g, mat.data(), c_force);
+            }
+        }
+    }
+  }
+
+  void RodModel::Impl::assemble_self_contact(const AssemblyRequest &rq, Evaluation &e)
+  {
+    const auto &u1 = *rq.u;
+    const int first = rq.first, last = rq.last;
+    ContactContribution cc;
+    if (scene.contact.self_contact)
+      {
+        // Node-to-segment contact, both ways: the first node of each
+        // candidate segment against the other segment. Two wires side by
+        // side are then pressed apart by a force that moves smoothly along
+        // them (segment-to-segment closest points jump between end points
+        // of nearly parallel segments, which stalls Newton). Each direction
+        // carries half the penalty, so two parallel wires feel k_n per unit
+        // length. A node pressed by a stretch of wire feels it once, with a
+        // force continuously differentiable in every position
+        // (point_stretch_contact: every segment within reach presses it,
+        // less the nodes shared by two of them).
+        const int first_segment = first - 1, last_segment = last + 1 - 2; // nodes [first - 1, last + 1)
+        const double fs = rq.friction_scale();
+        const auto at = [&](const int k) { return position(u1, k); };
+        const auto allowed = [&](const int node, const int s) {
+          return s >= first_segment && s <= last_segment && std::abs(s - node) > exclusion;
+        };
+        for (const auto &pr : broad.candidates())
+          for (const bool a_on_b : {true, false})
+            {
+              const int node = a_on_b ? pr.i : pr.j, seg = a_on_b ? pr.j : pr.i;
+              const std::array<Vec2, 3> x{{at(node), at(seg), at(seg + 1)}};
+              const std::array<Vec2, 3> w0{{rq.velocity0(node), rq.velocity0(seg), rq.velocity0(seg + 1)}};
+              double tc, fv;
+              const bool touch = point_stretch_contact(self_settings, 0.5 * node_weight(node), x, w0,
+                                                       rq.c_vel, allowed(node, seg + 1), cc, tc, fv, fs);
+              e.max_overlap = std::max(e.max_overlap, cc.overlap);
+              if (!touch)
+                continue;
+              add_contact(rq, cc, {node, seg, seg + 1}, e);
+              e.node_contact_force[node] += cc.normal_force - fv;
+              e.node_contact_force[seg] += (1.0 - tc) * cc.normal_force;
+              e.node_contact_force[seg + 1] += tc * cc.normal_force - fv;
+              // The contact network lists the nearest segment of each
+              // stretch, as the discrete model's.
+              if (!contact::nearest_of_stretch(x[0], seg,
+                                               contact::closest_on_segment(x[0], x[1], x[2]).distance2, at,
+                                               [&](const int s) { return allowed(node, s); }))
+                continue;
+              if (a_on_b)
+                e.pairs.push_back({node, seg, 0.0, tc, cc.normal_force});
+              else
+                e.pairs.push_back({seg, node, tc, 0.0, cc.normal_force});
+            }
+      }
+  }
+} // namespace wirefem::fem

@@ -1,0 +1,373 @@
+// The rod FEM's internals, shared by its source files (not installed):
+// the evaluation of the residual, the assembly request, the end-of-step
+// state of an implicit step, and RodModel::Impl.
+#pragma once
+
+#include <wirefem/analysis/observables.h>
+#include <wirefem/contact/broad_phase.h>
+#include <wirefem/contact/friction_law.h>
+#include <wirefem/contact/segment_distance.h>
+#include <wirefem/fem/contact_element.h>
+#include <wirefem/fem/rod_element.h>
+#include <wirefem/fem/rod_model.h>
+#include <wirefem/fem/sparse_direct.h>
+#include <wirefem/injection/channels.h>
+#include <wirefem/injection/inlet.h>
+#include <wirefem/core/binary.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <iostream>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+
+namespace wirefem::fem
+{
+  using core::Vec2;
+  using injection::Side;
+
+    /// Everything an evaluation of the residual produces.
+    struct Evaluation
+    {
+      dealii::Vector<double> residual;    ///< full, all dofs (reactions at prescribed dofs)
+      dealii::Vector<double> force;       ///< conservative internal + contact forces, full
+      dealii::Vector<double> dissipative; ///< viscous + friction forces, full
+      dealii::Vector<double> friction;    ///< friction forces, full
+      std::vector<PointState> state;      ///< per cell and quadrature point
+      std::vector<double> node_contact_force;
+      struct Pair
+      {
+        int i, j;
+        double s, t, fn;
+      };
+      std::vector<Pair> pairs;
+      double axial = 0, shear = 0, bending = 0, contact = 0, plastic = 0;
+      double max_overlap = 0;
+      int n_wall = 0;
+      double push_force = 0; ///< capstan: axial force at the pushed end
+      std::vector<contact::FrictionHistory> wall_history; ///< spring law: trial, per node
+    };
+
+    /// What one assembly is asked for: the state at the end of the step, the
+    /// free range, and how the time integrator weights the parts.
+    struct AssemblyRequest
+    {
+      const dealii::Vector<double> *u = nullptr;       ///< positions and angles
+      const dealii::Vector<double> *a_blend = nullptr; ///< blended acceleration (inertia)
+      const dealii::Vector<double> *v0 = nullptr;      ///< the velocity is c_vel u + v0
+      double step = 0.0;                               ///< for the dashpot rates; 0: none
+      double c_vel = 0.0;
+      int first = 0, last = 0; ///< free nodes [first, last)
+      bool want_tangent = false;
+      double c_mass = 0.0;      ///< weight of the mass matrix in the tangent
+      double c_force = 1.0;     ///< weight of the forces in the tangent
+      double blend_force = 1.0; ///< weight of the conservative forces in the residual
+      bool constrain = true;    ///< eliminate the capstan roller's tangential dof
+
+      /// The part of the velocity that does not depend on u, at node k.
+      core::Vec2 velocity0(const int k) const { return {(*v0)[3 * k], (*v0)[3 * k + 1]}; }
+      /// Weight of the friction (dissipative) part of a contact tangent.
+      double friction_scale() const { return c_force > 0 ? 1.0 / c_force : 1.0; }
+
+      AssemblyRequest without_tangent() const
+      {
+        AssemblyRequest r = *this;
+        r.want_tangent = false;
+        return r;
+      }
+    };
+
+    /// The end-of-step state of an implicit step as the Newton iteration
+    /// moves u1: v1 = c_vel u1 + v0 and a1 = (u1 - u_hat) / (beta step^2)
+    /// (zero without inertia), a_blend = (1 - alpha_m) a1 + alpha_m a_n.
+    struct StepState
+    {
+      dealii::Vector<double> u1, v1, a1, v0, a_blend, u_hat;
+      const dealii::Vector<double> *a_n = nullptr;
+      double step = 0.0, c_vel = 0.0, beta = 0.25, alpha_m = 0.0;
+      bool inertia = true;
+
+      /// v1, a1 and a_blend from u1.
+      void update()
+      {
+        for (unsigned int i = 0; i < u1.size(); ++i)
+          {
+            a1[i] = inertia ? (u1[i] - u_hat[i]) / (beta * step * step) : 0.0;
+            v1[i] = c_vel * u1[i] + v0[i];
+            a_blend[i] = (1.0 - alpha_m) * a1[i] + alpha_m * (*a_n)[i];
+          }
+      }
+    };
+
+  struct RodModel::Impl
+  {
+    scene::Scene scene;
+    double radius, diameter, rhoA, rhoI;
+    injection::Channels channels;
+    unsigned int p;
+    double h;
+    dealii::Triangulation<1, 2> tria;
+    dealii::FESystem<1, 2> fe;
+    dealii::DoFHandler<1, 2> dof_handler;
+    ElementShape stiffness_shape, mass_shape;
+    std::vector<double> element_mass; // 3n x 3n, same for every element
+    SectionProperties section;
+    material::MomentCurvatureLaw law{1.0};
+    bool plastic = false, viscous = false;
+    ContactSettings wall_settings, self_settings;
+
+    unsigned int n_cells = 0, n_nodes = 0, n_local = 0;
+    std::vector<double> node_S;                       // material coordinate of node k (sorted)
+    std::vector<std::vector<unsigned int>> cell_node; // node of local node a
+    double a_left = 0, a_right = 0;                   // material coordinates of the inlets at t = 0
+    double min_spacing = 0;
+
+    // Generalized-alpha.
+    double alpha_m = 0, alpha_f = 0, beta = 0.25, gamma = 0.5;
+    bool inertia = true;
+
+    // State at t_n.
+    dealii::Vector<double> u, v, a, f_old;
+    std::vector<PointState> qp;
+    double t = 0, dt = 0, dt_max = 0;
+    unsigned long steps = 0, cuts = 0;
+    unsigned long newton_iterations = 0; ///< linear solves of Newton's method in all
+    int first_free = 0, last_free = 0; // free nodes [first, last)
+    /// The channels push the wire deeper than `hold` inside them (those nodes
+    /// are prescribed); from there to the mouth the channel walls guide it
+    /// (fem::channel_wall_element in evaluate()), so a node is let go gradually
+    /// as it leaves.
+    double hold = 0;
+    double k_channel = 0; ///< lateral stiffness of the channel walls per length
+    double wall_time = 0; ///< time at which evaluate() places the channel mouths
+
+    contact::BroadPhase broad;
+    int exclusion = 1;
+    dealii::SparsityPattern sparsity;
+    dealii::SparseMatrix<double> K;
+    /// K's LU (KLU): analysed once per pattern, refactorised per iteration.
+    SparseDirect lu;
+    std::vector<int> lu_order; ///< entry of K (storage order) for each entry of the sorted CSR
+    std::vector<double> lu_values;
+    std::vector<double> lu_stored, lu_rhs, lu_solution; ///< solve_linear's scratch
+    /// Factorises K and solves K x = rhs; false when K is singular.
+    bool solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
+    bool factorise_K();
+    /// Solves with the factors of the last factorise_K().
+    bool solve_factorised(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
+    int sp_first = -1, sp_last = -1;
+    std::vector<contact::SegmentPair> sp_pairs;
+
+    core::EnergyLedger ledger;
+    core::StepReport last_report;
+    injection::ForceWindow window[2];
+    std::vector<std::string> effects;
+    std::vector<double> history;
+    Evaluation latest; ///< at the last accepted state
+    dealii::TimerOutput timer;
+    std::ostringstream timer_stream;
+
+    /// Set-up = cantilever: the clamp loading. Node 0 is held at the origin
+    /// along +x; the end load of the scene, times load_factor, acts on the
+    /// last node; no contact and no inertia. Each load increment is a
+    /// quasi-static step of the same Newton solver (follow_load).
+    bool clamped = false;
+    double load_factor = 0.0;
+    double newton_tolerance = 0.0; ///< absolute, on the max norm of the free residual
+    double force_scale = 1.0;      ///< of the reported residual
+    /// Backtracking in Newton's method. The clamp's load path takes full
+    /// Newton steps: a rod rolled up by an end moment is reached by full
+    /// steps whose max-norm residual first grows (stretching), and the path
+    /// controls its increments itself.
+    bool line_search = true;
+    struct LoadPath
+    {
+      double increment = 0.1;
+      bool was_stable = true;
+      unsigned long increments = 0;
+      unsigned int unstable_states_left = 0;
+      double lowest_eigenvalue = 0.0;
+      double residual = 0.0;
+    } path;
+    void assemble_end_load(Evaluation &e) const;
+    /// The clamp loading's equilibrium at `goal`, reached by load increments
+    /// from the current state (rod_load_path.cc).
+    core::Equilibrium follow_load(double goal);
+    /// One quasi-static Newton step at load factor `factor`; commits on success.
+    bool static_step(double factor);
+    /// The eigenvalue of smallest magnitude of K (assembled at the committed
+    /// state) and its mode on the free dofs, by inverse iteration.
+    double lowest_eigenvalue(dealii::Vector<double> &mode);
+    /// What a rejected load increment restores.
+    struct Committed
+    {
+      dealii::Vector<double> u, v, a, f_old;
+      std::vector<PointState> qp;
+      double t = 0.0, load_factor = 0.0;
+      unsigned long steps = 0;
+      core::EnergyLedger ledger;
+    };
+    Committed committed() const { return {u, v, a, f_old, qp, t, load_factor, steps, ledger}; }
+    void restore(const Committed &c)
+    {
+      u = c.u;
+      v = c.v;
+      a = c.a;
+      f_old = c.f_old;
+      qp = c.qp;
+      t = c.t;
+      load_factor = c.load_factor;
+      steps = c.steps;
+      ledger = c.ledger;
+    }
+
+    /// Set-up = capstan (rod_capstan.cc): the rod on the wall's centreline
+    /// circle over the wrap angle, running clockwise from its trailing end
+    /// (node 0). The leading end carries a compressive follower force and
+    /// the moment that holds the wall's curvature. Velocity control pushes
+    /// the trailing end along the wall: its polar and section angles are
+    /// prescribed, its radius free (a roller: its (x, y) rotated to (radial,
+    /// tangential) and the tangential row and column eliminated) or held.
+    /// Force control pushes it by a follower force instead. Quasi-static.
+    bool capstan = false;
+    struct CapstanLoading
+    {
+      double Rc = 0.0;          ///< radius of the centreline on the wall
+      double a0 = 0.0;          ///< polar angle of the trailing end at t = 0
+      double held = 0.0;        ///< the moment that holds the wall's curvature
+      double lead_angle0 = 0.0; ///< polar angle of the leading end at t = 0
+      double t_end = 0.0;       ///< velocity control: the time the slide is done
+      bool velocity = true, roller = true;
+      /// Spring-law wall friction (FEM/Friction law = spring): the history
+      /// of each node's wall contact at the last accepted step.
+      bool spring = false;
+      std::vector<contact::FrictionHistory> history;
+    } cap;
+    void build_capstan_mesh(const scene::Scene &s);
+    void set_capstan_state();
+    /// Follower forces and end moments at the time of the step (wall_time).
+    void assemble_capstan_loads(const AssemblyRequest &rq, Evaluation &e);
+    /// The push force at the trailing end and, for the roller, its rotated
+    /// radial dof (residual and, with the tangent, K); tangent_error_at
+    /// compares the tangent before this.
+    void constrain_trailing_end(const AssemblyRequest &rq, Evaluation &e);
+    /// Newton's correction of the roller's radial dof back to (x, y).
+    void expand_trailing_end(dealii::Vector<double> &dx) const;
+    /// The capstan's predictor: the whole rod slid with the trailing end
+    /// (velocity control), or the state itself (force control).
+    void predict_capstan(double step, StepState &x) const;
+    double capstan_thrust(double time) const;
+    double capstan_push(double time) const;
+    core::CapstanState capstan_state() const;
+
+    explicit Impl(const scene::Scene &s);
+    /// The mesh of the whole wire that can ever enter, numbered node by node
+    /// along the wire; node coordinates and the element mass matrix.
+    void build_mesh(const scene::Scene &s);
+    /// n_cells, h and the inlets' material coordinates of the injection.
+    void build_channel_mesh(const scene::Scene &s);
+    /// The triangulation of n_cells elements of length h, its dofs and nodes.
+    void make_mesh();
+    /// Section, material, contact settings, the effects of the run, and the
+    /// time integrator's parameters and step.
+    void build_physics(const scene::Scene &s);
+    /// The seeded shape at rest, its initial acceleration and stored energy.
+    void set_initial_state(const scene::Scene &s);
+
+    int node_dof(unsigned int node, unsigned int c) const { return static_cast<int>(3 * node + c); }
+    double left_inlet_S(double time) const { return a_left - channels.injected_per_channel(time); }
+    double right_inlet_S(double time) const { return a_right + channels.injected_per_channel(time); }
+    /// The nodes with material coordinate in (sl, sr).
+    void nodes_between(double sl, double sr, int &first, int &last) const;
+    void free_range(double time, int &first, int &last) const;
+    /// The nodes strictly between the inlets (material coordinate past them).
+    void inside_range(double time, int &first, int &last) const;
+    void prescribe(double time, dealii::Vector<double> &x, dealii::Vector<double> *vel,
+                   dealii::Vector<double> *acc, int first, int last) const;
+    Vec2 position(const dealii::Vector<double> &x, unsigned int k) const { return {x[3 * k], x[3 * k + 1]}; }
+    double node_weight(unsigned int k) const
+    {
+      const double l = k > 0 ? node_S[k] - node_S[k - 1] : 0.0;
+      const double r = k + 1 < n_nodes ? node_S[k + 1] - node_S[k] : 0.0;
+      return 0.5 * (l + r);
+    }
+
+    /// Assembles what the request asks for into e; with want_tangent the
+    /// matrix K (dofs of the free range) is filled. One function per
+    /// contribution, each adding to e and K.
+    void evaluate(const AssemblyRequest &rq, Evaluation &e);
+    void assemble_elements(const AssemblyRequest &rq, Evaluation &e);
+    void assemble_wall(const AssemblyRequest &rq, Evaluation &e);
+    bool wall_spring_contact(const AssemblyRequest &rq, int k, ContactContribution &cc, Evaluation &e) const;
+    void assemble_channel_walls(const AssemblyRequest &rq, Evaluation &e);
+    void assemble_self_contact(const AssemblyRequest &rq, Evaluation &e);
+    /// Adds scale * m (the square matrix on the global dofs g, row major)
+    /// to K, restricted to the free range.
+    void add_matrix(const AssemblyRequest &rq, const std::vector<int> &g, const double *m, double scale);
+    /// Adds a contact contribution on the nodes listed (x and y of each).
+    void add_contact(const AssemblyRequest &rq, const ContactContribution &cc, const std::vector<int> &nodes,
+                     Evaluation &e);
+    std::vector<dealii::types::global_dof_index> scratch_rows; ///< add_matrix
+    std::vector<int> scratch_pick;                             ///< add_matrix
+    dealii::FullMatrix<double> scratch_block;                  ///< add_matrix
+    void rebuild_sparsity(int first, int last);
+    bool solve_step(double step);
+    /// The predictor of an implicit step of length `step` (free range
+    /// [first, last)), with its kinematics.
+    void predict(double step, int first, int last, StepState &x) const;
+    /// max |K - K_fd| / max |K| at x.u1, K assembled there and K_fd the
+    /// central differences of the assembled residual (tests).
+    double tangent_error_at(const AssemblyRequest &rq, StepState &x);
+    bool check_tangent = false;  ///< compare the tangent with finite differences at the next predictor
+    double tangent_error = -1.0; ///< max |K - K_fd| / max |K| found there
+    void explicit_step(double step);
+    bool explicit_mode = false;
+    std::vector<double> lumped_element; // row sums of element_mass
+    double cell_kinetic(unsigned int c, const dealii::Vector<double> &vel) const
+    {
+      const unsigned int nd = n_local;
+      double ek = 0;
+      for (unsigned int i = 0; i < nd; ++i)
+        {
+          const double vi = vel[3 * cell_node[c][i / 3] + i % 3];
+          if (explicit_mode)
+            ek += 0.5 * lumped_element[i] * vi * vi;
+          else
+            for (unsigned int j = 0; j < nd; ++j)
+              ek += 0.5 * vi * element_mass[i * nd + j] * vel[3 * cell_node[c][j / 3] + j % 3];
+        }
+      return ek;
+    }
+    /// Accepts the step. The channel work is summed over the prescribed dofs
+    /// of the free range [work_first, work_last) (the range the step was
+    /// solved with).
+    void commit(double step, int first, int last, const dealii::Vector<double> &u1,
+                const dealii::Vector<double> &v1, const dealii::Vector<double> &a1, Evaluation &e,
+                int work_first, int work_last);
+    double kinetic_energy(const dealii::Vector<double> &vel, int first, int last) const;
+    bool cell_active(unsigned int c, int first, int last) const
+    {
+      for (const auto k : cell_node[c])
+        if (static_cast<int>(k) >= first && static_cast<int>(k) < last)
+          return true;
+      return false;
+    }
+  };
+} // namespace wirefem::fem

@@ -1,0 +1,436 @@
+#include "rod_model_impl.h"
+
+namespace wirefem::fem
+{
+  RodModel::Impl::Impl(const scene::Scene &s)
+    : scene(s)
+    , radius(s.cavity.radius)
+    , diameter(1.0)
+    , rhoA(s.wire.mass_per_length)
+    , rhoI(s.wire.mass_per_length * diameter * diameter / 16.0)
+    , channels(s.cavity.radius, s.injection.speed, s.injection.ramp_time, s.injection.slow_start_speed,
+               s.injection.slow_start_length)
+    , p(s.fem.degree)
+    , h(s.fem.element_length)
+    , fe(dealii::FE_Q<1, 2>(s.fem.degree), 3)
+    , broad(1.0, s.contact.skin, 1)
+    , timer(timer_stream, dealii::TimerOutput::never, dealii::TimerOutput::wall_times)
+  {
+    // The clamp loading (Set-up = cantilever) has no cavity to touch.
+    clamped = s.setup == scene::Setup::cantilever;
+    if (clamped)
+      scene.contact.wall_contact = scene.contact.self_contact = false;
+    // The capstan: the wall with friction, nothing else.
+    capstan = s.setup == scene::Setup::capstan;
+    if (capstan)
+      {
+        scene.contact.wall_contact = true;
+        scene.contact.self_contact = false;
+      }
+    build_mesh(scene);
+    build_physics(scene);
+    set_initial_state(scene);
+  }
+
+  void RodModel::Impl::build_mesh(const scene::Scene &s)
+  {
+    if (clamped)
+      {
+        // The rod of length L, from the clamp at S = 0.
+        const double L = s.cantilever.length;
+        n_cells = std::max(1u, static_cast<unsigned int>(std::lround(L / s.fem.element_length)));
+        h = L / n_cells;
+        a_left = 0.0;
+        a_right = L;
+      }
+    else if (capstan)
+      build_capstan_mesh(s);
+    else
+      build_channel_mesh(s);
+    make_mesh();
+  }
+
+  void RodModel::Impl::build_channel_mesh(const scene::Scene &s)
+  {
+    // The wire the channels can ever push in: phi_max pi r^2 inside, plus
+    // two elements of margin in each channel.
+    const double L_max = s.injection.maximum_packing_density * M_PI * radius * radius / diameter;
+    hold = std::max(2.0 * h, 2.0 * diameter);
+    // Tangential channels start from an S of two half circles between the
+    // inlets, L0 = pi r' long (not rounded: the mesh need not end at the
+    // inlets). As in the discrete model, such a channel holds its wire
+    // sqrt(2 r' d) + d further back: wire in the cavity comes within d of
+    // its axis up to sqrt(2 r' d) behind the inlet.
+    if (s.injection.tangential_channels)
+      {
+        const double r_inlet = radius - 0.5 * diameter;
+        channels.make_tangential(r_inlet, M_PI * r_inlet);
+        hold += std::sqrt(2.0 * r_inlet * diameter) + diameter;
+      }
+    const double L0 = channels.initial_length();
+    k_channel = s.contact.normal_stiffness / diameter;
+    const double per_channel = 0.5 * (L_max - L0) + 2.0 * h + hold;
+    const unsigned int n_channel = static_cast<unsigned int>(std::ceil(per_channel / h));
+    const unsigned int n_cavity = static_cast<unsigned int>(std::ceil(L0 / h - 1e-9));
+    n_cells = 2 * n_channel + n_cavity;
+    a_left = n_channel * h;
+    a_right = a_left + L0;
+  }
+
+  void RodModel::Impl::make_mesh()
+  {
+    std::vector<dealii::Point<2>> vertices(n_cells + 1);
+    for (unsigned int i = 0; i <= n_cells; ++i)
+      vertices[i] = dealii::Point<2>(i * h, 0.0);
+    std::vector<dealii::CellData<1>> cells(n_cells);
+    for (unsigned int i = 0; i < n_cells; ++i)
+      {
+        cells[i].vertices[0] = i;
+        cells[i].vertices[1] = i + 1;
+      }
+    tria.create_triangulation(vertices, cells, dealii::SubCellData());
+    dof_handler.reinit(tria);
+    dof_handler.distribute_dofs(fe);
+    n_local = fe.n_dofs_per_cell();
+    n_nodes = n_cells * p + 1;
+
+    // Number the dofs node by node along the wire, (x, y, theta) per node,
+    // so that the free nodes between the inlets are one contiguous block.
+    std::vector<dealii::types::global_dof_index> renumber(dof_handler.n_dofs());
+    std::vector<dealii::types::global_dof_index> local(n_local);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        const unsigned int k = static_cast<unsigned int>(std::lround(cell->vertex(0)[0] / h));
+        cell->get_dof_indices(local);
+        for (unsigned int i = 0; i < n_local; ++i)
+          {
+            const auto ci = fe.system_to_component_index(i);
+            const unsigned int a_ = ci.second;
+            const unsigned int node = a_ == 0 ? k * p : a_ == 1 ? (k + 1) * p : k * p + (a_ - 1);
+            renumber[local[i]] = 3 * node + ci.first;
+          }
+      }
+    dof_handler.renumber_dofs(renumber);
+    cell_node.assign(n_cells, std::vector<unsigned int>(p + 1));
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        const unsigned int k = static_cast<unsigned int>(std::lround(cell->vertex(0)[0] / h));
+        cell->get_dof_indices(local);
+        for (unsigned int i = 0; i < n_local; ++i)
+          {
+            const auto ci = fe.system_to_component_index(i);
+            if (local[i] % 3 != ci.first)
+              throw std::logic_error("RodModel: unexpected dof numbering");
+            cell_node[k][ci.second] = static_cast<unsigned int>(local[i] / 3);
+          }
+      }
+
+    stiffness_shape = ElementShape::lagrange(p, h, p); // reduced: p Gauss points
+    mass_shape = ElementShape::lagrange(p, h, p + 1);
+    node_S.resize(n_nodes);
+    for (unsigned int c = 0; c < n_cells; ++c)
+      for (unsigned int a_ = 0; a_ <= p; ++a_)
+        node_S[cell_node[c][a_]] = (c + stiffness_shape.node_position[a_]) * h;
+    min_spacing = h;
+    for (unsigned int k = 0; k + 1 < n_nodes; ++k)
+      min_spacing = std::min(min_spacing, node_S[k + 1] - node_S[k]);
+
+    element_mass.assign(9 * (p + 1) * (p + 1), 0.0);
+    const unsigned int nd = 3 * (p + 1);
+    for (unsigned int q = 0; q < mass_shape.n_q; ++q)
+      for (unsigned int i = 0; i <= p; ++i)
+        for (unsigned int j = 0; j <= p; ++j)
+          for (unsigned int c = 0; c < 3; ++c)
+            element_mass[(3 * i + c) * nd + 3 * j + c] += mass_shape.weight[q] * mass_shape.value(q, i) *
+                                                          mass_shape.value(q, j) * (c < 2 ? rhoA : rhoI);
+  }
+
+  void RodModel::Impl::build_physics(const scene::Scene &s)
+  {
+    // Section and material.
+    const auto &w = s.wire;
+    section.EA = w.axial_stiffness;
+    section.GA = s.fem.formulation == scene::Formulation::kirchhoff
+                     ? s.fem.kirchhoff_penalty * w.axial_stiffness
+                     : s.fem.shear_stiffness;
+    // The dashpots of the discrete model in the continuum limit.
+    section.axial_viscosity = s.discrete.axial_damping * s.discrete.segment_length;
+    section.bending_viscosity = s.discrete.rotational_damping * s.discrete.segment_length;
+    if (clamped || capstan)
+      section.axial_viscosity = section.bending_viscosity = 0.0;
+    viscous = section.axial_viscosity > 0 || section.bending_viscosity > 0;
+    const auto &pl = w.plasticity;
+    const bool keep = s.keep_neutral_effects;
+    plastic = s.plastic_bending();
+    law = plastic ? material::MomentCurvatureLaw(w.bending_stiffness, pl.yield_curvature, pl.hardening_slope,
+                                                 pl.hardening)
+                  : material::MomentCurvatureLaw(w.bending_stiffness);
+
+    effects = {"stretching",
+               s.fem.formulation == scene::Formulation::kirchhoff ? "shear constraint" : "shear"};
+    if (w.bending_stiffness > 0)
+      effects.push_back("bending");
+    if (plastic)
+      effects.push_back("plasticity");
+    if (viscous)
+      effects.push_back("damping");
+    const auto &con = s.contact;
+    const auto &fr = con.friction;
+    ContactSettings base;
+    base.diameter = diameter;
+    base.stiffness = con.normal_stiffness;
+    base.threshold_velocity = fr.threshold_velocity;
+    wall_settings = self_settings = base;
+    wall_settings.mu_static = fr.wall_static_coefficient;
+    wall_settings.mu_dynamic = fr.wall_dynamic_coefficient;
+    wall_settings.friction = con.wall_contact && (keep || fr.wall_static_coefficient > 0 || capstan);
+    wall_settings.mouths = !channels.is_tangential(); // the capstan's cavity has the radial channels too
+    self_settings.mu_static = fr.static_coefficient;
+    self_settings.mu_dynamic = fr.dynamic_coefficient;
+    self_settings.friction = con.self_contact && (keep || fr.static_coefficient > 0);
+    if (con.wall_contact)
+      effects.push_back("wall contact");
+    if (con.self_contact)
+      effects.push_back("self contact");
+    if (wall_settings.friction || self_settings.friction)
+      effects.push_back("friction");
+    if (clamped)
+      effects.push_back("end load");
+    if (capstan)
+      effects.push_back("end loads");
+    const auto integrator = clamped || capstan ? scene::Integrator::quasi_static : s.fem.integrator;
+    inertia = integrator != scene::Integrator::quasi_static;
+    newton_tolerance = s.fem.newton_tolerance * w.axial_stiffness;
+    if (clamped)
+      {
+        force_scale = s.cantilever.force_scale(w.bending_stiffness);
+        newton_tolerance = s.cantilever.tolerance * force_scale;
+        line_search = false;
+      }
+    if (capstan)
+      {
+        // Full Newton steps, on the scale of the end force.
+        force_scale = s.capstan.end_force;
+        newton_tolerance = s.fem.newton_tolerance * force_scale;
+        line_search = false;
+      }
+    if (inertia)
+      effects.push_back("inertia");
+    exclusion = std::max(1, static_cast<int>(std::ceil(con.exclusion_length / min_spacing - 1e-9)));
+    broad = contact::BroadPhase(diameter, con.skin, exclusion);
+
+    if (integrator == scene::Integrator::generalized_alpha)
+      {
+        const double rho = s.fem.spectral_radius;
+        alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
+        alpha_f = rho / (rho + 1.0);
+        gamma = 0.5 - alpha_m + alpha_f;
+        beta = 0.25 * (1.0 - alpha_m + alpha_f) * (1.0 - alpha_m + alpha_f);
+      }
+    dt_max = s.fem.time_step > 0 ? s.fem.time_step : std::min(0.025, 0.025 * diameter / s.injection.speed);
+    if (integrator == scene::Integrator::explicit_lumped)
+      {
+        // Central differences (symplectic Euler) with the row-sum lumped
+        // mass: stable below 2 / omega_max; half of it by default.
+        explicit_mode = true;
+        const unsigned int nd = n_local;
+        lumped_element.assign(nd, 0.0);
+        for (unsigned int i = 0; i < nd; ++i)
+          for (unsigned int j = 0; j < nd; ++j)
+            lumped_element[i] += element_mass[i * nd + j];
+        const double hm = min_spacing;
+        const double m_t = rhoA * hm, m_r = rhoI * hm;
+        const double w2 = std::max(4.0 * (section.EA + section.GA) / (m_t * hm),
+                                   (section.GA * hm + 4.0 * w.bending_stiffness / hm) / m_r) +
+                          4.0 * con.normal_stiffness * hm / m_t;
+        dt_max = s.fem.time_step > 0 ? s.fem.time_step : 0.5 * 2.0 / std::sqrt(w2);
+      }
+    if (capstan)
+      {
+        // A step moves the trailing end by at most a fifth of a node spacing
+        // (velocity control) or raises the push by at most 1% of the end
+        // force (force control).
+        const auto &cs = s.capstan;
+        dt_max = s.fem.time_step > 0.0 ? s.fem.time_step
+                 : cap.velocity        ? 0.2 * (h / p) / cs.speed
+                                       : 0.01 / cs.force_rate;
+        if (cs.ramp_time > 0.0)
+          dt_max = std::min(dt_max, 0.05 * cs.ramp_time);
+      }
+    dt = dt_max;
+    for (int side = 0; side < 2; ++side)
+      window[side].length = h / p;
+  }
+
+  void RodModel::Impl::set_initial_state(const scene::Scene &s)
+  {
+    const double L0 = channels.initial_length();
+    // Initial state: straight in the channels, the seeded shape across the
+    // cavity, at rest.
+    const unsigned int n_dofs = dof_handler.n_dofs();
+    u.reinit(n_dofs);
+    v.reinit(n_dofs);
+    a.reinit(n_dofs);
+    f_old.reinit(n_dofs);
+    qp.assign(n_cells * stiffness_shape.n_q, PointState{});
+    free_range(0.0, first_free, last_free);
+    wall_time = 0.0;
+    prescribe(0.0, u, nullptr, nullptr, first_free, last_free);
+    if (clamped)
+      for (int k = first_free; k < last_free; ++k)
+        u[3 * k] = node_S[k]; // straight along +x
+    else if (capstan)
+      set_capstan_state();
+    else if (channels.is_tangential())
+      {
+        // The S (as the discrete model's: injection::Channels::initial_s).
+        // The wire in a channel lies on its axis.
+        for (int k = first_free; k < last_free; ++k)
+          {
+            const double xi = node_S[k] - a_left;
+            Vec2 pos;
+            double angle = channels.wire_angle();
+            if (xi <= 0.0 || xi >= L0)
+              pos = xi <= 0.0 ? channels.position(Side::left, xi, 0.0)
+                              : channels.position(Side::right, L0 - xi, 0.0);
+            else
+              {
+                const auto p = channels.initial_s(xi);
+                pos = p.position;
+                angle = p.angle;
+              }
+            u[3 * k] = pos.x;
+            u[3 * k + 1] = pos.y;
+            u[3 * k + 2] = angle;
+          }
+      }
+    else
+      {
+        const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, 2.0 * radius,
+                                            s.injection.mirror_asymmetry);
+        for (int k = first_free; k < last_free; ++k)
+          {
+            const double xi = node_S[k] - a_left;
+            const bool across = xi > 0.0 && xi < 2.0 * radius; // else in a channel, on its axis
+            u[3 * k] = xi - radius;
+            u[3 * k + 1] = across ? shape.offset(xi) : 0.0;
+            u[3 * k + 2] = across ? std::atan(shape.slope(xi)) : 0.0;
+          }
+      }
+    // The initial acceleration, and the stored energy of the perturbed
+    // wire. Where its curvature exceeds the yield curvature the wire starts
+    // plastically pre-bent (the return mapping from a virgin state gives the
+    // plastic curvature), so that it starts in an admissible state and the
+    // initial energy is what is elastically stored.
+    Evaluation e;
+    dealii::Vector<double> zero(n_dofs);
+    if (inertia && !explicit_mode)
+      {
+        // M a0 = -f(u0) on the free dofs.
+        evaluate({&u, &zero, &zero, 0.0, 0.0, first_free, last_free, true, 1.0, 0.0, 0.0}, e);
+        dealii::Vector<double> rhs(3 * (last_free - first_free)), x(rhs.size());
+        for (unsigned int i = 0; i < rhs.size(); ++i)
+          rhs[i] = -e.force[3 * first_free + i];
+        if (!solve_linear(rhs, x))
+          throw std::runtime_error("the mass matrix of the initial wire is singular");
+        for (unsigned int i = 0; i < x.size(); ++i)
+          a[3 * first_free + i] = x[i];
+        f_old = e.force;
+      }
+    else
+      evaluate({&u, &zero, &zero, 0.0, 0.0, first_free, last_free, false, 0.0, 1.0, 1.0}, e);
+    // The strains of the initial shape are the reference of the first rates.
+    qp = e.state;
+    ledger.initial = e.axial + e.shear + e.bending;
+  }
+
+  void RodModel::Impl::nodes_between(const double sl, const double sr, int &first, int &last) const
+  {
+    first = static_cast<int>(std::upper_bound(node_S.begin(), node_S.end(), sl + 1e-12 * h) - node_S.begin());
+    last = static_cast<int>(std::lower_bound(node_S.begin(), node_S.end(), sr - 1e-12 * h) - node_S.begin());
+  }
+
+  void RodModel::Impl::free_range(const double time, int &first, int &last) const
+  {
+    if (clamped || capstan)
+      {
+        // The clamp holds node 0; so does the capstan's held trailing end.
+        first = clamped || (cap.velocity && !cap.roller) ? 1 : 0;
+        last = static_cast<int>(n_nodes);
+        return;
+      }
+    nodes_between(left_inlet_S(time) - hold, right_inlet_S(time) + hold, first, last);
+    if (first < 1 || last >= static_cast<int>(n_nodes))
+      throw std::runtime_error("the wire in the channels is used up (Injection/Maximum packing density "
+                               "sets how much wire the mesh holds)");
+  }
+
+  void RodModel::Impl::inside_range(const double time, int &first, int &last) const
+  {
+    if (clamped || capstan)
+      {
+        first = 0;
+        last = static_cast<int>(n_nodes);
+        return;
+      }
+    nodes_between(left_inlet_S(time), right_inlet_S(time), first, last);
+  }
+
+  void RodModel::Impl::prescribe(const double time, dealii::Vector<double> &x, dealii::Vector<double> *vel,
+                                 dealii::Vector<double> *acc, const int first, const int last) const
+  {
+    if (capstan)
+      {
+        // Velocity control with the trailing end held: node 0 on the wall's
+        // centreline where the push has taken it.
+        if (first > 0)
+          {
+            const double angle = cap.a0 - scene.capstan.pushed(time) / cap.Rc;
+            x[0] = cap.Rc * std::cos(angle);
+            x[1] = cap.Rc * std::sin(angle);
+            x[2] = angle - 0.5 * M_PI;
+          }
+        return;
+      }
+    if (clamped)
+      {
+        // The clamp: node 0 at the origin, its section along +x, at rest.
+        for (unsigned int c = 0; c < 3; ++c)
+          {
+            x[c] = 0.0;
+            if (vel)
+              (*vel)[c] = 0.0;
+            if (acc)
+              (*acc)[c] = 0.0;
+          }
+        return;
+      }
+    const double speed = channels.injection_speed(time);
+    const double accel = channels.injection_acceleration(time);
+    for (unsigned int k = 0; k < n_nodes; ++k)
+      {
+        const int ki = static_cast<int>(k);
+        if (ki >= first && ki < last)
+          continue;
+        const Side side = ki < first ? Side::left : Side::right;
+        const double m = side == Side::left ? node_S[k] - a_left : a_right - node_S[k];
+        const Vec2 pos = channels.position(side, m, time);
+        const Vec2 axis = channels.axis(side);
+        x[3 * k] = pos.x;
+        x[3 * k + 1] = pos.y;
+        x[3 * k + 2] = channels.wire_angle();
+        if (vel)
+          {
+            (*vel)[3 * k] = speed * axis.x;
+            (*vel)[3 * k + 1] = speed * axis.y;
+            (*vel)[3 * k + 2] = 0.0;
+          }
+        if (acc)
+          {
+            (*acc)[3 * k] = accel * axis.x;
+            (*acc)[3 * k + 1] = accel * axis.y;
+            (*acc)[3 * k + 2] = 0.0;
+          }
+      }
+  }
+} // namespace wirefem::fem

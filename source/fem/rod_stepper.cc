@@ -1,0 +1,300 @@
+#include "rod_model_impl.h"
+
+namespace wirefem::fem
+{
+  double RodModel::Impl::kinetic_energy(const dealii::Vector<double> &vel, const int first,
+                                        const int last) const
+  {
+    if (!inertia)
+      return 0.0;
+    double ek = 0;
+    for (unsigned int c = 0; c < n_cells; ++c)
+      if (cell_active(c, first, last))
+        ek += cell_kinetic(c, vel);
+    return ek;
+  }
+
+  void RodModel::Impl::explicit_step(const double step)
+  {
+    const unsigned int n = u.size();
+    int first, last;
+    free_range(t + step, first, last);
+    {
+      dealii::TimerOutput::Scope ts(timer, "contact search");
+      std::vector<Vec2> x(n_nodes);
+      for (unsigned int k = 0; k < n_nodes; ++k)
+        x[k] = position(u, k);
+      broad.update(x, first_free - 1, last_free + 1);
+    }
+    // Forces at t_n with the velocities v_n (dashpot rates over the last step).
+    Evaluation e;
+    const dealii::Vector<double> zero(n);
+    wall_time = t;
+    evaluate({&u, &zero, &v, step, 0.0, first_free, last_free, false, 0.0, 1.0, 1.0}, e);
+    std::vector<double> mass(n, 0.0);
+    for (unsigned int c = 0; c < n_cells; ++c)
+      if (cell_active(c, first_free, last_free))
+        for (unsigned int i = 0; i < n_local; ++i)
+          mass[3 * cell_node[c][i / 3] + i % 3] += lumped_element[i];
+    dealii::Vector<double> u1(u), v1(v), a1(n);
+    // The wire outside the inlets at t_n follows the channels to t_{n+1}.
+    prescribe(t + step, u1, &v1, &a1, first_free, last_free);
+    for (int i = 3 * first_free; i < 3 * last_free; ++i)
+      {
+        a1[i] = -(e.force[i] + e.dissipative[i]) / mass[i];
+        v1[i] = v[i] + step * a1[i];
+        u1[i] = u[i] + step * v1[i];
+      }
+    // Reactions at the prescribed dofs include their share of inertia.
+    for (unsigned int i = 0; i < n; ++i)
+      if (static_cast<int>(i) < 3 * first_free || static_cast<int>(i) >= 3 * last_free)
+        e.residual[i] += mass[i] * a1[i];
+    history.assign(1, 0.0);
+    commit(step, first, last, u1, v1, a1, e, first_free, last_free);
+  }
+
+  void RodModel::Impl::predict(const double step, const int first, const int last, StepState &x) const
+  {
+    // Constant acceleration for the free dofs, the channel motion for the
+    // prescribed ones.
+    const unsigned int n = u.size();
+    x.u1 = u;
+    x.v1.reinit(n);
+    x.a1.reinit(n);
+    x.v0.reinit(n);
+    x.a_blend.reinit(n);
+    x.u_hat.reinit(n);
+    for (unsigned int i = 0; i < n; ++i)
+      x.u1[i] = u[i] + step * v[i] + 0.5 * step * step * a[i];
+    if (capstan)
+      predict_capstan(step, x);
+    prescribe(t + step, x.u1, nullptr, nullptr, first, last);
+    x.step = step;
+    x.c_vel = inertia ? gamma / (beta * step) : 1.0 / step;
+    x.beta = beta;
+    x.alpha_m = alpha_m;
+    x.inertia = inertia;
+    x.a_n = &a;
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        x.u_hat[i] = u[i] + step * v[i] + step * step * (0.5 - beta) * a[i];
+        x.v0[i] = inertia ? v[i] + step * (1.0 - gamma) * a[i] - x.c_vel * x.u_hat[i] : -u[i] / step;
+      }
+    x.update();
+  }
+
+  double RodModel::Impl::tangent_error_at(const AssemblyRequest &rq, StepState &x)
+  {
+    // Central differences of the assembled residual, column by column,
+    // against the tangent K assembled at x.u1 (before the capstan roller's
+    // dof is rotated).
+    const int lo = 3 * rq.first, nw = 3 * (rq.last - rq.first);
+    Evaluation trial;
+    AssemblyRequest raw = rq;
+    raw.constrain = false;
+    evaluate(raw, trial);
+    double worst = 0, largest = 0;
+    const double eps = 1e-7;
+    for (int j = 0; j < nw; ++j)
+      {
+        const double keep = x.u1[lo + j];
+        dealii::Vector<double> rp(nw);
+        for (const double sign : {1.0, -1.0})
+          {
+            x.u1[lo + j] = keep + sign * eps;
+            x.update();
+            evaluate(raw.without_tangent(), trial);
+            for (int i = 0; i < nw; ++i)
+              rp[i] += sign * trial.residual[lo + i] / (2 * eps);
+          }
+        x.u1[lo + j] = keep;
+        for (int i = 0; i < nw; ++i)
+          {
+            const double kij = K.el(i, j);
+            worst = std::max(worst, std::abs(kij - rp[i]));
+            largest = std::max(largest, std::abs(kij));
+          }
+      }
+    x.update();
+    return worst / largest;
+  }
+
+  bool RodModel::Impl::solve_step(const double step)
+  {
+    const double t1 = t + step;
+    wall_time = t1;
+    int first, last;
+    free_range(t1, first, last);
+    const unsigned int n = u.size();
+    StepState x;
+    predict(step, first, last, x);
+    auto &u1 = x.u1;
+    const double c_mass = inertia ? (1.0 - alpha_m) / (beta * step * step) : 0.0;
+    const double c_force = 1.0 - alpha_f;
+    const AssemblyRequest rq{&u1,  &x.a_blend, &x.v0,  step,    x.c_vel, first,
+                             last, true,       c_mass, c_force, c_force};
+    const double tol = newton_tolerance;
+    const int lo = 3 * first, nw = 3 * (last - first);
+    auto residual_norm = [&](const Evaluation &ev) -> double {
+      double r = 0;
+      for (int i = 0; i < nw; ++i)
+        {
+          const double ri = ev.residual[lo + i] + alpha_f * f_old[lo + i];
+          if (!std::isfinite(ri))
+            return INFINITY;
+          r = std::max(r, std::abs(ri));
+        }
+      return r;
+    };
+
+    if (!clamped && !capstan) // the other loadings have no self contact
+      {
+        dealii::TimerOutput::Scope ts(timer, "contact search");
+        std::vector<Vec2> xs(n_nodes);
+        for (unsigned int k = 0; k < n_nodes; ++k)
+          xs[k] = position(u, k);
+        broad.update(xs, first - 1, last + 1);
+      }
+
+    history.clear();
+    Evaluation e, trial;
+    dealii::Vector<double> rhs(nw), dx(nw);
+    evaluate(rq, e);
+    if (check_tangent)
+      {
+        check_tangent = false;
+        tangent_error = tangent_error_at(rq, x);
+        evaluate(rq, e);
+      }
+    double res = residual_norm(e);
+    history.push_back(res);
+    for (unsigned int it = 0; it < scene.fem.maximum_iterations; ++it)
+      {
+        if (res <= tol)
+          {
+            for (unsigned int i = 0; i < n; ++i)
+              e.residual[i] += alpha_f * f_old[i];
+            commit(step, first, last, u1, x.v1, x.a1, e, first, last);
+            return true;
+          }
+        if (!std::isfinite(res))
+          return false;
+        for (int i = 0; i < nw; ++i)
+          rhs[i] = -(e.residual[lo + i] + alpha_f * f_old[lo + i]);
+        {
+          dealii::TimerOutput::Scope ts(timer, "linear solve");
+          if (!solve_linear(rhs, dx))
+            return false;
+          ++newton_iterations;
+        }
+        expand_trailing_end(dx);
+        // Full Newton update, with the tangent there; if the residual does
+        // not drop, backtrack (Armijo on the max norm) and re-linearise
+        // (unless line_search is off: then always the full update).
+        const dealii::Vector<double> u_start(u1);
+        double lambda = 1.0;
+        for (int i = 0; i < nw; ++i)
+          u1[lo + i] = u_start[lo + i] + dx[i];
+        x.update();
+        evaluate(rq, trial);
+        double r_new = residual_norm(trial);
+        if (!line_search || r_new < (1.0 - 1e-4) * res)
+          {
+            std::swap(e, trial);
+            res = r_new;
+          }
+        else
+          {
+            for (int ls = 0; ls < 5; ++ls)
+              {
+                lambda *= 0.5;
+                for (int i = 0; i < nw; ++i)
+                  u1[lo + i] = u_start[lo + i] + lambda * dx[i];
+                x.update();
+                evaluate(rq.without_tangent(), trial);
+                r_new = residual_norm(trial);
+                if (r_new < (1.0 - 1e-4 * lambda) * res)
+                  break;
+              }
+            evaluate(rq, e);
+            res = residual_norm(e);
+          }
+        history.push_back(res);
+      }
+    return false;
+  }
+
+  void RodModel::Impl::commit(const double step, const int first, const int last,
+                              const dealii::Vector<double> &u1, const dealii::Vector<double> &v1,
+                              const dealii::Vector<double> &a1, Evaluation &e, const int work_first,
+                              const int work_last)
+  {
+    const unsigned int n = u.size();
+    // Wire that entered the system this step brings its kinetic energy.
+    if (first < first_free || last > last_free)
+      {
+        double before = 0;
+        for (unsigned int c = 0; c < n_cells; ++c)
+          if (inertia && cell_active(c, first, last) && !cell_active(c, first_free, last_free))
+            before += cell_kinetic(c, v);
+        ledger.injection_work += before;
+      }
+    // Channel work: reactions at the prescribed dofs of the active cells.
+    std::vector<char> counted(n_nodes, 0);
+    double work[2] = {0, 0};
+    for (unsigned int c = 0; c < n_cells; ++c)
+      if (cell_active(c, work_first, work_last))
+        for (const auto k : cell_node[c])
+          {
+            const int ki = static_cast<int>(k);
+            if ((ki >= work_first && ki < work_last) || counted[k])
+              continue;
+            counted[k] = 1;
+            double w = 0;
+            for (unsigned int cc = 0; cc < 3; ++cc)
+              w += e.residual[3 * k + cc] * (u1[3 * k + cc] - u[3 * k + cc]);
+            work[ki < work_first ? 0 : 1] += w;
+          }
+    const double du = channels.injected_per_channel(t + step) - channels.injected_per_channel(t);
+    for (int side = 0; side < 2; ++side)
+      {
+        ledger.injection_work += work[side];
+        window[side].add(du, work[side]);
+      }
+    // Friction and dashpots: the work of their nodal forces (at the end of
+    // the step) against the motion of the nodes. For the dashpots this is
+    // N_v (dN/du) du rather than N_v d(eps): the two differ at second order
+    // in the step because the strains are nonlinear in u, and only the
+    // first is the energy the time step actually removed (the difference
+    // made a first-order drift of the balance in dynamic scenes).
+    double friction = 0, viscous = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        const double du_i = u1[i] - u[i];
+        friction += e.friction[i] * du_i;
+        viscous += (e.dissipative[i] - e.friction[i]) * du_i;
+      }
+    ledger.friction += friction;
+    ledger.plastic += e.plastic;
+    ledger.damping += viscous;
+    ledger.stretching = e.axial;
+    ledger.shear = e.shear;
+    ledger.bending = e.bending;
+    ledger.contact = e.contact;
+    ledger.kinetic = kinetic_energy(v1, first, last);
+    last_report = {e.max_overlap, static_cast<int>(e.pairs.size()), e.n_wall};
+
+    if (capstan && cap.spring && !e.wall_history.empty())
+      cap.history = e.wall_history;
+    u = u1;
+    v = v1;
+    a = a1;
+    f_old = e.force;
+    qp = e.state;
+    t += step;
+    ++steps;
+    first_free = first;
+    last_free = last;
+    latest = std::move(e);
+  }
+} // namespace wirefem::fem
