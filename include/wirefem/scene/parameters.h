@@ -15,6 +15,11 @@
 
 namespace wirefem::scene
 {
+  /// The reader's table of keys (scene/declarations.h). Each section below
+  /// declares its keys into it, parses itself from it and validates itself
+  /// (scene/*_parameters.cc); scene_reader.cc checks the combinations.
+  class Declarations;
+
   enum class ModelType
   {
     discrete,
@@ -59,6 +64,10 @@ namespace wirefem::scene
     double damping = 0.0;        ///< gamma of -gamma m v; 0: critical for the first mode
     double tolerance = 1e-10;    ///< largest nodal force / force scale at equilibrium
     double maximum_time = 1.0e6; ///< give up (exit 3) when not in equilibrium by then
+
+    static void declare(Declarations &d);
+    void parse(const Declarations &d);
+    void validate(const std::string &where) const;
   };
 
   /// The load factors at which a cantilever run records an equilibrium, in
@@ -113,11 +122,19 @@ namespace wirefem::scene
       return slide >= 0.5 * speed * ramp_time ? slide / speed + 0.5 * ramp_time
                                               : std::sqrt(2.0 * slide * ramp_time / speed);
     }
+
+    static void declare(Declarations &d);
+    void parse(const Declarations &d);
+    void validate(const std::string &where) const;
   };
 
   struct CavityParameters
   {
     double radius = 10.0; ///< r in units of d (f = r/d)
+
+    static void declare(Declarations &d);
+    void parse(const Declarations &d);
+    void validate(const std::string &where) const;
   };
 
   struct PlasticityParameters
@@ -134,6 +151,10 @@ namespace wirefem::scene
     double bending_stiffness = 60.0; ///< EI (force d^2)
     double mass_per_length = 1.0;    ///< rho A (mass / d)
     PlasticityParameters plasticity;
+
+    static void declare(Declarations &d);
+    void parse(const Declarations &d);
+    void validate(const std::string &where) const;
   };
 
   struct FrictionParameters
@@ -155,6 +176,10 @@ namespace wirefem::scene
     double skin = 0.5;                ///< Verlet skin of the candidate list (d)
     double exclusion_length = 3.0;    ///< arc length (d) within which segments never touch
     FrictionParameters friction;
+
+    static void declare(Declarations &d);
+    void parse(const Declarations &d);
+    void validate(const std::string &where) const;
   };
 
   struct InjectionParameters
@@ -171,6 +196,11 @@ namespace wirefem::scene
     double jamming_force = 50.0;          ///< jammed when the mean inlet force exceeds this (force)
     double jamming_window = 1.0;          ///< injected length over which the force is averaged (d)
     double maximum_time = std::numeric_limits<double>::infinity(); ///< stop at this time
+
+    static void declare(Declarations &d);
+    void parse(const Declarations &d, const std::string &where);
+    /// radius: the cavity's, which bounds the packing densities.
+    void validate(const std::string &where, double radius) const;
   };
 
   struct DiscreteParameters
@@ -181,6 +211,10 @@ namespace wirefem::scene
     double translational_damping = 0.0; ///< gamma: damping force -gamma m v (1 / time)
     double rotational_damping = 0.5;    ///< c: damping moment -c dzeta/dt (force d time)
     double axial_damping = 3.0;         ///< c_a: dashpot tension c_a dlambda/dt (force time / d)
+
+    static void declare(Declarations &d);
+    void parse(const Declarations &d);
+    void validate(const std::string &where) const;
   };
 
   enum class Formulation
@@ -210,6 +244,11 @@ namespace wirefem::scene
     double newton_tolerance = 1e-8; ///< on the residual norm relative to the force scale
     unsigned int maximum_iterations = 15;
     bool spring_friction = false; ///< the discrete model's friction law (capstan only)
+
+    static void declare(Declarations &d);
+    /// axial_stiffness: EA, of which the default shear stiffness is a fraction.
+    void parse(const Declarations &d, double axial_stiffness);
+    void validate(const std::string &where) const;
   };
 
   struct OutputParameters
@@ -220,6 +259,10 @@ namespace wirefem::scene
     int picture_size = 1000;            ///< pixels
     std::string progress = "auto";      ///< auto | on | off
     double checkpoint_interval = 300.0; ///< wall seconds between checkpoints; 0: only on interruption
+
+    static void declare(Declarations &d);
+    void parse(const Declarations &d);
+    void validate(const std::string &where) const;
   };
 
   struct Scene
