@@ -894,10 +894,11 @@ namespace
     // the end moment, the friction and the trailing end all enter the
     // compared tangent (at the predictor of the second step, where the
     // friction is engaged); the roller and the held trailing end.
-    auto s = scene::read_scene("", {"Set-up=capstan", "Model=fem", "Cavity/Radius=25",
-                                    "Wire/Plasticity/Enabled=false", "Capstan/End force=10", "Capstan/Ramp time=0",
-                                    "Capstan/Slide=0.5", "Contact/Friction/Wall static coefficient=0.3",
-                                    "Contact/Friction/Wall dynamic coefficient=0.24"});
+    auto s =
+        scene::read_scene("", {"Set-up=capstan", "Model=fem", "Cavity/Radius=25",
+                               "Wire/Plasticity/Enabled=false", "Capstan/End force=10", "Capstan/Ramp time=0",
+                               "Capstan/Slide=0.5", "Contact/Friction/Wall static coefficient=0.3",
+                               "Contact/Friction/Wall dynamic coefficient=0.24"});
     for (const bool roller : {true, false})
       {
         s.capstan.trailing_roller = roller;
@@ -994,7 +995,7 @@ namespace
             if (key == "lowest_eigenvalue")
               lowest = value;
           EXPECT_GT(lowest, 0.0) << ratio << " " << side;
-          EXPECT_GT(side * eq.tip_y, 0.25 * L) << ratio << " " << side;       // mid-span deflection
+          EXPECT_GT(side * eq.tip_y, 0.25 * L) << ratio << " " << side;   // mid-span deflection
           EXPECT_GT(side * eq.tip_rotation, 1.0) << ratio << " " << side; // end slope (rad)
         }
   }

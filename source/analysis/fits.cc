@@ -44,6 +44,79 @@ namespace wirefem::analysis
     }
   } // namespace
 
+  namespace
+  {
+    /// The rows (log phi, loops) as points (log phi, log loops): each row
+    /// its own point, or averaged in at most 60 bins of equal width in log phi.
+    void bin_rows(const std::vector<std::pair<double, double>> &rows, std::vector<double> &x,
+                  std::vector<double> &y, std::vector<double> &count)
+    {
+      // Many rows (long runs, pooled realizations) are averaged in at most
+      // max_bins bins of equal width in log phi: successive rows of a run are
+      // correlated anyway, and the window search below is quadratic in them.
+      constexpr int max_bins = 60;
+      if (static_cast<int>(rows.size()) <= max_bins)
+        for (const auto &[lx, nl] : rows)
+          {
+            x.push_back(lx);
+            y.push_back(std::log(nl));
+            count.push_back(1.0);
+          }
+      else
+        {
+          const double x0 = rows.front().first, width = (rows.back().first - x0) / max_bins;
+          std::size_t i = 0;
+          for (int b = 0; b < max_bins; ++b)
+            {
+              double sx = 0.0, sn = 0.0;
+              int m = 0;
+              while (i < rows.size() && (b == max_bins - 1 || rows[i].first < x0 + (b + 1) * width))
+                {
+                  sx += rows[i].first;
+                  sn += rows[i].second;
+                  ++m;
+                  ++i;
+                }
+              if (m == 0)
+                continue;
+              x.push_back(sx / m);
+              y.push_back(std::log(sn / m));
+              count.push_back(m);
+            }
+        }
+    }
+
+    /// The widest window [start, end) of the points, at least min_points
+    /// long and spanning a factor min_ratio in phi, without detectable
+    /// curvature; (-1, -1) when there is none.
+    std::pair<int, int> widest_straight_window(const std::vector<double> &x, const std::vector<double> &y,
+                                               const std::vector<double> &w, const int min_points,
+                                               const double min_ratio)
+    {
+      const int n = static_cast<int>(x.size());
+      int start = -1, end = -1;
+      double widest = std::log(min_ratio);
+      for (int s0 = 0; s0 + min_points <= n; ++s0)
+        for (int e = n; e - s0 >= min_points; --e)
+          {
+            const double span = x[e - 1] - x[s0];
+            if (span < widest || (span == widest && e - s0 <= end - start))
+              break; // shorter windows from s0 only get narrower
+            const std::vector<double> xs(x.begin() + s0, x.begin() + e), ys(y.begin() + s0, y.begin() + e),
+                ws(w.begin() + s0, w.begin() + e);
+            const auto [c2, e2] = curvature(xs, ys, ws);
+            if (std::abs(c2) <= 2.0 * e2 + 1e-12) // (exact data: no curvature at all)
+              {
+                start = s0;
+                end = e;
+                widest = span;
+                break;
+              }
+          }
+      return {start, end};
+    }
+  } // namespace
+
   LoopFit fit_loop_exponent(const std::vector<double> &phi, const std::vector<double> &loops,
                             const int min_points, const double min_ratio, const double min_loops)
   {
@@ -54,40 +127,8 @@ namespace wirefem::analysis
       if (phi[i] > 0.0 && loops[i] >= min_loops)
         rows.emplace_back(std::log(phi[i]), loops[i]);
     std::sort(rows.begin(), rows.end());
-    // Many rows (long runs, pooled realizations) are averaged in at most
-    // max_bins bins of equal width in log phi: successive rows of a run are
-    // correlated anyway, and the window search below is quadratic in them.
-    constexpr int max_bins = 60;
     std::vector<double> x, y, w, count;
-    if (static_cast<int>(rows.size()) <= max_bins)
-      for (const auto &[lx, nl] : rows)
-        {
-          x.push_back(lx);
-          y.push_back(std::log(nl));
-          count.push_back(1.0);
-        }
-    else
-      {
-        const double x0 = rows.front().first, width = (rows.back().first - x0) / max_bins;
-        std::size_t i = 0;
-        for (int b = 0; b < max_bins; ++b)
-          {
-            double sx = 0.0, sn = 0.0;
-            int m = 0;
-            while (i < rows.size() && (b == max_bins - 1 || rows[i].first < x0 + (b + 1) * width))
-              {
-                sx += rows[i].first;
-                sn += rows[i].second;
-                ++m;
-                ++i;
-              }
-            if (m == 0)
-              continue;
-            x.push_back(sx / m);
-            y.push_back(std::log(sn / m));
-            count.push_back(m);
-          }
-      }
+    bin_rows(rows, x, y, count);
     // Counting noise: var(log N) ~ 1/N, so a point weighs N times its rows.
     for (std::size_t i = 0; i < x.size(); ++i)
       w.push_back(std::exp(y[i]) * count[i]);
@@ -98,26 +139,7 @@ namespace wirefem::analysis
             fmt::format("fewer than {} rows (or bins) with at least {} loops", min_points, min_loops);
         return fit;
       }
-    // The widest window (in log phi) without detectable curvature.
-    int start = -1, end = -1;
-    double widest = std::log(min_ratio);
-    for (int s0 = 0; s0 + min_points <= n; ++s0)
-      for (int e = n; e - s0 >= min_points; --e)
-        {
-          const double span = x[e - 1] - x[s0];
-          if (span < widest || (span == widest && e - s0 <= end - start))
-            break; // shorter windows from s0 only get narrower
-          const std::vector<double> xs(x.begin() + s0, x.begin() + e), ys(y.begin() + s0, y.begin() + e),
-              ws(w.begin() + s0, w.begin() + e);
-          const auto [c2, e2] = curvature(xs, ys, ws);
-          if (std::abs(c2) <= 2.0 * e2 + 1e-12) // (exact data: no curvature at all)
-            {
-              start = s0;
-              end = e;
-              widest = span;
-              break;
-            }
-        }
+    const auto [start, end] = widest_straight_window(x, y, w, min_points, min_ratio);
     if (start < 0)
       {
         fit.reason = fmt::format("no range without curvature spans a factor {} in phi", min_ratio);

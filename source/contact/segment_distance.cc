@@ -25,6 +25,35 @@ namespace wirefem::contact
     {
       return (a > 0.0 && b < 0.0) || (a < 0.0 && b > 0.0);
     }
+
+    /// Whether the segments cross properly; then result holds the crossing.
+    bool proper_crossing(const Vec2 &a0, const Vec2 &a1, const Vec2 &b0, const Vec2 &b1,
+                         ClosestPoints &result)
+    {
+      const Vec2 da = a1 - a0;
+      const Vec2 db = b1 - b0;
+      // Proper crossing. The parameters come from the orientation values
+      // themselves: with strictly opposite signs |o1 - o2| = |o1| + |o2| > 0,
+      // also after rounding, so the quotients are finite and lie in [0, 1]
+      // without a separate parallelism tolerance.
+      const double o1 = core::cross(da, b0 - a0);
+      const double o2 = core::cross(da, b1 - a0);
+      if (opposite_signs(o1, o2))
+        {
+          const double o3 = core::cross(db, a0 - b0);
+          const double o4 = core::cross(db, a1 - b0);
+          if (opposite_signs(o3, o4))
+            {
+              result.s = o3 / (o3 - o4);
+              result.t = o1 / (o1 - o2);
+              result.p = a0 + result.s * da;
+              result.q = b0 + result.t * db;
+              result.distance = 0.0;
+              return true;
+            }
+        }
+      return false;
+    }
   } // namespace
 
   ClosestPoints closest_points(const Vec2 &a0, const Vec2 &a1, const Vec2 &b0, const Vec2 &b1)
@@ -34,26 +63,8 @@ namespace wirefem::contact
 
     ClosestPoints result;
 
-    // Proper crossing. The parameters come from the orientation values
-    // themselves: with strictly opposite signs |o1 - o2| = |o1| + |o2| > 0,
-    // also after rounding, so the quotients are finite and lie in [0, 1]
-    // without a separate parallelism tolerance.
-    const double o1 = core::cross(da, b0 - a0);
-    const double o2 = core::cross(da, b1 - a0);
-    if (opposite_signs(o1, o2))
-      {
-        const double o3 = core::cross(db, a0 - b0);
-        const double o4 = core::cross(db, a1 - b0);
-        if (opposite_signs(o3, o4))
-          {
-            result.s = o3 / (o3 - o4);
-            result.t = o1 / (o1 - o2);
-            result.p = a0 + result.s * da;
-            result.q = b0 + result.t * db;
-            result.distance = 0.0;
-            return result;
-          }
-      }
+    if (proper_crossing(a0, a1, b0, b1, result))
+      return result;
 
     // In 2D two segments that do not cross properly have a closest pair with an
     // end point of one of them (touching, collinear and parallel cases

@@ -44,9 +44,9 @@ namespace wirefem::discrete
     const bool plastic = scene.plastic_bending();
     const auto law = plastic ? material::MomentCurvatureLaw(k2, alpha, pl.hardening_slope, pl.hardening)
                              : material::MomentCurvatureLaw(k2);
-    const auto clamp_law = plastic
-                               ? material::MomentCurvatureLaw(2.0 * k2, 0.5 * alpha, pl.hardening_slope, pl.hardening)
-                               : material::MomentCurvatureLaw(2.0 * k2);
+    const auto clamp_law =
+        plastic ? material::MomentCurvatureLaw(2.0 * k2, 0.5 * alpha, pl.hardening_slope, pl.hardening)
+                : material::MomentCurvatureLaw(2.0 * k2);
     terms.push_back(std::make_unique<StretchingTerm>(k1));
     auto b = std::make_unique<BendingTerm>(law, 0.0, n + 1);
     bending = b.get();
@@ -163,8 +163,12 @@ namespace wirefem::discrete
       }
     if (!clamped)
       return {};
-    return {{"segments", nodes.last - 1}, {"segment_length", lambda0}, {"steps", static_cast<double>(steps)},
-            {"time", t},                  {"time_step", dt},          {"damping", drag}};
+    return {{"segments", nodes.last - 1},
+            {"segment_length", lambda0},
+            {"steps", static_cast<double>(steps)},
+            {"time", t},
+            {"time_step", dt},
+            {"damping", drag}};
   }
 
   void ChainModel::build_capstan(const scene::Scene &scene)
@@ -206,7 +210,8 @@ namespace wirefem::discrete
     // bending spring next to it turns by -zeta (clockwise).
     const double held = k2 * cap.zeta;
     terms.push_back(std::make_unique<StretchingTerm>(k1, scene.discrete.axial_damping, n + 1));
-    auto b = std::make_unique<BendingTerm>(material::MomentCurvatureLaw(k2), scene.discrete.rotational_damping, n + 1);
+    auto b = std::make_unique<BendingTerm>(material::MomentCurvatureLaw(k2),
+                                           scene.discrete.rotational_damping, n + 1);
     bending = b.get();
     terms.push_back(std::move(b));
     ContactLaw wall;
@@ -235,10 +240,11 @@ namespace wirefem::discrete
     const double omega2 = 4.0 * k1 / mass + 16.0 * k2 / (mass * lambda0 * lambda0) +
                           (4.0 + 4.0 * fr.tangential_stiffness_ratio) * kn / mass;
     const auto &dd = scene.discrete;
-    dt = dd.time_step > 0.0 ? dd.time_step
-                            : explicit_time_step(dd.time_step_factor, omega2,
-                                                 dashpot_rate(mass, lambda0, dd.axial_damping,
-                                                              dd.rotational_damping, dd.translational_damping));
+    dt = dd.time_step > 0.0
+             ? dd.time_step
+             : explicit_time_step(dd.time_step_factor, omega2,
+                                  dashpot_rate(mass, lambda0, dd.axial_damping, dd.rotational_damping,
+                                               dd.translational_damping));
   }
 
   void ChainModel::place_pushed_nodes()
@@ -255,7 +261,8 @@ namespace wirefem::discrete
       {
         const double a = std::atan2(cap.x0[k].y, cap.x0[k].x) - psi;
         nodes.x[k] = on_circle(cap.roller_r, a);
-        nodes.v[k] = omega * cap.roller_r * Vec2{std::sin(a), -std::cos(a)} + cap.roller_vr * on_circle(1.0, a);
+        nodes.v[k] =
+            omega * cap.roller_r * Vec2{std::sin(a), -std::cos(a)} + cap.roller_vr * on_circle(1.0, a);
       }
   }
 
@@ -285,7 +292,7 @@ namespace wirefem::discrete
     if (capstan.velocity_control && capstan.trailing_roller)
       {
         const double radial = dot(c.f[0], on_circle(1.0, std::atan2(c.x[0].y, c.x[0].x))) +
-                               dot(c.f[1], on_circle(1.0, std::atan2(c.x[1].y, c.x[1].x)));
+                              dot(c.f[1], on_circle(1.0, std::atan2(c.x[1].y, c.x[1].x)));
         cap.roller_vr += dt * radial / (2.0 * c.node_mass);
         cap.roller_r += dt * cap.roller_vr;
       }

@@ -31,15 +31,40 @@ namespace wirefem::discrete
 
   void ChainModel::build_injected(const scene::Scene &scene)
   {
-    const double k1 = scene.wire.axial_stiffness / lambda0;
+    allocate_injected_chain(scene);
+    // The explicit stability bound: each term adds its squared frequency,
+    // in this order.
+    double omega2 = add_material_terms(scene);
+    add_contact_terms(scene, omega2);
     const double mass = scene.wire.mass_per_length * lambda0;
-    const auto &con = scene.contact;
-    const auto &fr = con.friction;
-    // Penalty per unit wire length: a node (or a segment pair) stands for
-    // lambda_0 of wire, so the contact force per length does not depend on
-    // the discretisation.
-    const double kn = con.normal_stiffness * lambda0;
+    const auto &dd = scene.discrete;
+    dt = dd.time_step > 0.0 ? dd.time_step
+                            : explicit_time_step(dd.time_step_factor, omega2,
+                                                 dashpot_rate(mass, lambda0, dd.axial_damping,
+                                                              bending ? dd.rotational_damping : 0.0,
+                                                              dd.translational_damping));
 
+    // The perturbed initial wire is not stress free: its energy is energy in.
+    // Where it is bent beyond yield it starts plastically pre-bent (the
+    // return-mapped state is committed), so its energy in is the elastic
+    // energy it actually stores; without the commit the first step would
+    // book the excess as plastic dissipation that no work ever paid for.
+    StepEnergy e0;
+    for (auto &term : terms)
+      term->add_forces(nodes, dt, e0);
+    for (auto &term : terms)
+      term->commit();
+    std::fill(nodes.f.begin(), nodes.f.end(), Vec2{});
+    std::fill(nodes.contact_force.begin(), nodes.contact_force.end(), 0.0);
+    ledger.initial = e0.stretching + e0.bending + e0.contact;
+    ledger.stretching = e0.stretching;
+    ledger.bending = e0.bending;
+    ledger.contact = e0.contact;
+  }
+
+  void ChainModel::allocate_injected_chain(const scene::Scene &scene)
+  {
+    const double mass = scene.wire.mass_per_length * lambda0;
     // Storage for every node the run can hold: the wire that fills the
     // cavity up to the maximum packing density, plus the channel nodes.
     // Tangential channels start from an S of two half circles between the
@@ -71,8 +96,12 @@ namespace wirefem::discrete
     nodes.n_prescribed = 2;
     place_initial_wire(scene);
     feed_channels();
+  }
 
-    const bool keep = scene.keep_neutral_effects;
+  double ChainModel::add_material_terms(const scene::Scene &scene)
+  {
+    const double k1 = scene.wire.axial_stiffness / lambda0;
+    const double mass = scene.wire.mass_per_length * lambda0;
     effects.push_back("stretching");
     terms.push_back(std::make_unique<StretchingTerm>(k1, scene.discrete.axial_damping, nodes.capacity()));
     double omega2 = 4.0 * k1 / mass;
@@ -96,6 +125,19 @@ namespace wirefem::discrete
     if (scene.discrete.translational_damping > 0.0 || (bending && scene.discrete.rotational_damping > 0.0))
       effects.push_back("damping");
 
+    return omega2;
+  }
+
+  void ChainModel::add_contact_terms(const scene::Scene &scene, double &omega2)
+  {
+    const bool keep = scene.keep_neutral_effects;
+    const double mass = scene.wire.mass_per_length * lambda0;
+    const auto &con = scene.contact;
+    const auto &fr = con.friction;
+    // Penalty per unit wire length: a node (or a segment pair) stands for
+    // lambda_0 of wire, so the contact force per length does not depend on
+    // the discretisation.
+    const double kn = con.normal_stiffness * lambda0;
     ContactLaw law;
     law.diameter = diameter;
     law.normal_stiffness = kn;
@@ -158,30 +200,6 @@ namespace wirefem::discrete
     terms.push_back(std::make_unique<ChannelTerm>(channels, k_channel));
     omega2 += 2.0 * k_channel * lambda0 / mass;
     effects.push_back("inertia");
-
-    const auto &dd = scene.discrete;
-    dt = dd.time_step > 0.0 ? dd.time_step
-                            : explicit_time_step(dd.time_step_factor, omega2,
-                                                 dashpot_rate(mass, lambda0, dd.axial_damping,
-                                                              bending ? dd.rotational_damping : 0.0,
-                                                              dd.translational_damping));
-
-    // The perturbed initial wire is not stress free: its energy is energy in.
-    // Where it is bent beyond yield it starts plastically pre-bent (the
-    // return-mapped state is committed), so its energy in is the elastic
-    // energy it actually stores; without the commit the first step would
-    // book the excess as plastic dissipation that no work ever paid for.
-    StepEnergy e0;
-    for (auto &term : terms)
-      term->add_forces(nodes, dt, e0);
-    for (auto &term : terms)
-      term->commit();
-    std::fill(nodes.f.begin(), nodes.f.end(), Vec2{});
-    std::fill(nodes.contact_force.begin(), nodes.contact_force.end(), 0.0);
-    ledger.initial = e0.stretching + e0.bending + e0.contact;
-    ledger.stretching = e0.stretching;
-    ledger.bending = e0.bending;
-    ledger.contact = e0.contact;
   }
 
   ChainModel::~ChainModel() = default;

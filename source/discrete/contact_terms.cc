@@ -195,6 +195,50 @@ namespace wirefem::discrete
       friction_work.resize(capacity);
   }
 
+  core::Vec2 SelfContactTerm::friction_force(Chain &c, const int k, const int m, const double t, const Vec2 n,
+                                             const double fn, const double dt, StepEnergy &e)
+  {
+    // The friction of the contact of node k with segment m (at t, normal n,
+    // normal force fn): its force on the node, its history and its work.
+    const Vec2 tangent = perp(n);
+    const Vec2 vq = (1.0 - t) * c.v[m] + t * c.v[m + 1];
+    // At the surfaces (arms d/2 against n on the node's side,
+    // along n on the segment's) both wires' rotations add to the slip.
+    const double half_d = 0.5 * law.diameter;
+    const double vt =
+        dot(c.v[k] - vq, tangent) -
+        (law.surface_torque ? half_d * (node_rotation_rate(c, k) + segment_rotation_rate(c, m)) : 0.0);
+    // A node that slides across a node of the other wire moves on
+    // to the neighbouring segment: it keeps its history.
+    contact::FrictionHistory old;
+    for (const auto kk : {key(k, m), key(k, m - 1), key(k, m + 1)})
+      if (const auto it = history.find(kk); it != history.end() && !it->second.taken)
+        {
+          old = it->second.history;
+          it->second.taken = true;
+          break;
+        }
+    const auto r = contact::friction_update(law.coefficients, fn, vt, dt, old);
+    const Vec2 ft = r.force * tangent;
+    friction_work.add_force(k, ft);
+    friction_work.add_force(m, -(1.0 - t) * ft);
+    friction_work.add_force(m + 1, -t * ft);
+    if (law.surface_torque)
+      {
+        // Both surfaces get the moment -d/2 F_t of the friction force at their arms.
+        NodalForce forces[6];
+        int nf = node_moment_forces(c, k, -half_d * r.force, forces);
+        nf += segment_moment_forces(c, m, -half_d * r.force, forces + nf);
+        apply_friction_moment(c, friction_work, forces, nf);
+      }
+    const double stored =
+        0.5 * law.coefficients.tangential_stiffness * r.history.elongation * r.history.elongation;
+    e.friction_stored += stored;
+    friction_work.add_stored(stored);
+    trial_history[key(k, m)] = {r.history, false};
+    return ft;
+  }
+
   void SelfContactTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
     broad.update(c.x, c.first, c.last);
@@ -242,46 +286,7 @@ namespace wirefem::discrete
             Vec2 f = fn * n;
             e.contact += 0.5 * law.normal_stiffness * overlap * overlap;
             if (law.friction)
-              {
-                const Vec2 tangent = perp(n);
-                const Vec2 vq = (1.0 - t) * c.v[m] + t * c.v[m + 1];
-                // At the surfaces (arms d/2 against n on the node's side,
-                // along n on the segment's) both wires' rotations add to the slip.
-                const double half_d = 0.5 * law.diameter;
-                const double vt =
-                    dot(c.v[k] - vq, tangent) -
-                    (law.surface_torque ? half_d * (node_rotation_rate(c, k) + segment_rotation_rate(c, m))
-                                        : 0.0);
-                // A node that slides across a node of the other wire moves on
-                // to the neighbouring segment: it keeps its history.
-                contact::FrictionHistory old;
-                for (const auto kk : {key(k, m), key(k, m - 1), key(k, m + 1)})
-                  if (const auto it = history.find(kk); it != history.end() && !it->second.taken)
-                    {
-                      old = it->second.history;
-                      it->second.taken = true;
-                      break;
-                    }
-                const auto r = contact::friction_update(law.coefficients, fn, vt, dt, old);
-                const Vec2 ft = r.force * tangent;
-                f += ft;
-                friction_work.add_force(k, ft);
-                friction_work.add_force(m, -(1.0 - t) * ft);
-                friction_work.add_force(m + 1, -t * ft);
-                if (law.surface_torque)
-                  {
-                    // Both surfaces get the moment -d/2 F_t of the friction force at their arms.
-                    NodalForce forces[6];
-                    int nf = node_moment_forces(c, k, -half_d * r.force, forces);
-                    nf += segment_moment_forces(c, m, -half_d * r.force, forces + nf);
-                    apply_friction_moment(c, friction_work, forces, nf);
-                  }
-                const double stored =
-                    0.5 * law.coefficients.tangential_stiffness * r.history.elongation * r.history.elongation;
-                e.friction_stored += stored;
-                friction_work.add_stored(stored);
-                trial_history[key(k, m)] = {r.history, false};
-              }
+              f += friction_force(c, k, m, t, n, fn, dt, e);
             c.f[k] += f;
             c.f[m] -= (1.0 - t) * f;
             c.f[m + 1] -= t * f;

@@ -312,6 +312,66 @@ namespace wirefem::fem
 
   namespace
   {
+    /// Where the closest point of x[1]-x[2] to x[0] lies (n == 3; a point
+    /// against a point, n == 2, has t = 0): e = x2 - x1, t clamped to [0, 1],
+    /// and dt/dx_j (zero when clamped).
+    struct ClosestParameter
+    {
+      Vec2 e{0.0, 0.0};
+      double t = 0.0;
+      std::array<Vec2, 3> dt{};
+    };
+
+    ClosestParameter closest_parameter(const int n, const Vec2 *x)
+    {
+      ClosestParameter p;
+      if (n != 3)
+        return p;
+      p.e = x[2] - x[1];
+      const Vec2 w = x[0] - x[1];
+      const double ee = dot(p.e, p.e);
+      p.t = dot(w, p.e) / ee;
+      if (p.t <= 0.0)
+        p.t = 0.0;
+      else if (p.t >= 1.0)
+        p.t = 1.0;
+      else
+        {
+          p.dt[0] = (1.0 / ee) * p.e;
+          p.dt[2] = (1.0 / ee) * (w - 2.0 * p.t * p.e);
+          p.dt[1] = -1.0 * (p.dt[0] + p.dt[2]);
+        }
+      return p;
+    }
+
+    /// The friction force of a point contact, f_t = friction(f_n, v_t) with
+    /// v_t = tau . sum_m share_m v_m and v_m = c x_m + v0_m, its two partial
+    /// derivatives, and the velocities its tangent needs.
+    struct PointFriction
+    {
+      double ft = 0.0, dft_dfn = 0.0, dft_dvt = 0.0;
+      Vec2 vrel{0.0, 0.0}, v1{0.0, 0.0}, v2{0.0, 0.0};
+    };
+
+    PointFriction point_friction(const ContactSettings &s, const int n, const Vec2 *x, const Vec2 *v0,
+                                 const double c, const double *share, const Vec2 &tau, const double fn)
+    {
+      PointFriction pf;
+      if (!s.friction)
+        return pf;
+      for (int m = 0; m < n; ++m)
+        pf.vrel = pf.vrel + share[m] * (c * x[m] + v0[m]);
+      if (n == 3)
+        pf.v1 = c * x[1] + v0[1], pf.v2 = c * x[2] + v0[2];
+      // The law and its two partial derivatives from its one definition.
+      using Fad2 = Sacado::Fad::SFad<double, 2>;
+      const Fad2 f = friction_force<Fad2>(s, Fad2(2, 0, fn), Fad2(2, 1, dot(pf.vrel, tau)));
+      pf.ft = f.val();
+      pf.dft_dfn = f.dx(0);
+      pf.dft_dvt = f.dx(1);
+      return pf;
+    }
+
     /// point_contact_by_ad with the derivatives by hand. With share
     /// (1, -(1 - t), -t) (or (1, -1) against a point), d = x0 - q = sum_m
     /// share_m x_m, n = d / |d|, g = D - |d|, f_n = k g, the residual is
@@ -327,26 +387,10 @@ namespace wirefem::fem
       const int nd = 2 * n;
       out = ContactContribution{};
       out.n_points = n;
-      Vec2 e{0.0, 0.0};
-      double t = 0.0;
-      std::array<Vec2, 3> dt{}; // dt / dx_j
-      if (n == 3)
-        {
-          e = x[2] - x[1];
-          const Vec2 w = x[0] - x[1];
-          const double ee = dot(e, e);
-          t = dot(w, e) / ee;
-          if (t <= 0.0)
-            t = 0.0;
-          else if (t >= 1.0)
-            t = 1.0;
-          else
-            {
-              dt[0] = (1.0 / ee) * e;
-              dt[2] = (1.0 / ee) * (w - 2.0 * t * e);
-              dt[1] = -1.0 * (dt[0] + dt[2]);
-            }
-        }
+      const ClosestParameter cp = closest_parameter(n, x);
+      const Vec2 e = cp.e;
+      const double t = cp.t;
+      const std::array<Vec2, 3> &dt = cp.dt; // dt / dx_j
       t_out = t;
       const Vec2 q = x[1] + t * e;
       const Vec2 d = x[0] - q;
@@ -368,21 +412,9 @@ namespace wirefem::fem
       };
       const auto comp = [](const Vec2 &v, const int a) { return a ? v.y : v.x; };
       // Friction: f_t = friction(f_n, v_t), v_t = tau . sum_m share_m v_m, v_m = c x_m + v0_m.
-      double ft = 0.0, dft_dfn = 0.0, dft_dvt = 0.0;
-      Vec2 vrel{0.0, 0.0}, v1{0.0, 0.0}, v2{0.0, 0.0};
-      if (s.friction)
-        {
-          for (int m = 0; m < n; ++m)
-            vrel = vrel + share[m] * (c * x[m] + v0[m]);
-          if (n == 3)
-            v1 = c * x[1] + v0[1], v2 = c * x[2] + v0[2];
-          // The law and its two partial derivatives from its one definition.
-          using Fad2 = Sacado::Fad::SFad<double, 2>;
-          const Fad2 f = friction_force<Fad2>(s, Fad2(2, 0, fn), Fad2(2, 1, dot(vrel, tau)));
-          ft = f.val();
-          dft_dfn = f.dx(0);
-          dft_dvt = f.dx(1);
-        }
+      const PointFriction pf = point_friction(s, n, x, v0, c, share, tau, fn);
+      const double ft = pf.ft, dft_dfn = pf.dft_dfn, dft_dvt = pf.dft_dvt;
+      const Vec2 vrel = pf.vrel, v1 = pf.v1, v2 = pf.v2;
       for (int m = 0; m < n; ++m)
         for (int a = 0; a < 2; ++a)
           {
@@ -474,94 +506,6 @@ namespace wirefem::fem
         }
     out.energy -= vc.energy;
     vertex_force = vc.normal_force;
-    return true;
-  }
-
-  bool channel_wall_element(const std::vector<double> &pos, const double h, const double k, const double *X,
-                            const Vec2 &ax, double &U, double *grad, double *tangent)
-  {
-    const unsigned int nn = pos.size(), nd = 2 * nn;
-    const Vec2 n = perp(ax);
-    std::vector<double> N(nn), dN(nn);
-    auto basis = [&](const double xi) { lagrange_basis(pos, xi, N.data(), dN.data()); };
-    auto along = [&](const double *w, const Vec2 &e) {
-      double v = 0;
-      for (unsigned int a = 0; a < nn; ++a)
-        v += w[a] * (X[2 * a] * e.x + X[2 * a + 1] * e.y);
-      return v;
-    };
-    basis(0.0);
-    const double s0 = along(N.data(), ax);
-    basis(1.0);
-    const double s1 = along(N.data(), ax);
-    U = 0;
-    std::fill(grad, grad + nd, 0.0);
-    const bool crossing = (s0 < 0.0) != (s1 < 0.0);
-    if (s0 >= 0.0 && s1 >= 0.0)
-      return false;
-    double xa = 0.0, xb = 1.0, cut = 0.0;
-    if (crossing)
-      {
-        double lo = 0.0, hi = 1.0; // s(lo) and s(hi) of opposite signs
-        for (int it = 0; it < 60; ++it)
-          {
-            const double mid = 0.5 * (lo + hi);
-            basis(mid);
-            ((along(N.data(), ax) < 0.0) == (s0 < 0.0) ? lo : hi) = mid;
-          }
-        cut = 0.5 * (lo + hi);
-        (s0 < 0.0 ? xb : xa) = cut;
-      }
-    // Gauss-Legendre with nn points (exact for y^2, degree 2p), on [xa, xb].
-    const dealii::QGauss<1> gauss(nn);
-    if (tangent)
-      std::fill(tangent, tangent + nd * nd, 0.0);
-    for (unsigned int q = 0; q < nn; ++q)
-      {
-        const double xi = xa + (xb - xa) * gauss.point(q)[0];
-        const double w = gauss.weight(q) * (xb - xa) * h;
-        basis(xi);
-        const double y = along(N.data(), n);
-        U += 0.5 * k * w * y * y;
-        for (unsigned int a = 0; a < nn; ++a)
-          {
-            grad[2 * a] += k * w * y * N[a] * n.x;
-            grad[2 * a + 1] += k * w * y * N[a] * n.y;
-          }
-        if (tangent && !crossing) // quadratic in X: k int N_a N_b n n^T
-          for (unsigned int i = 0; i < nd; ++i)
-            for (unsigned int j = 0; j < nd; ++j)
-              tangent[i * nd + j] += k * w * N[i / 2] * N[j / 2] * (i % 2 ? n.y : n.x) * (j % 2 ? n.y : n.x);
-      }
-    if (crossing)
-      {
-        // dU/dxi* = +-(k/2) y*^2 h (+ when the inside part ends at xi*);
-        // dxi*/dX = -(ds/dX)/(ds/dxi) at xi*.
-        basis(cut);
-        const double y = along(N.data(), n), ds = along(dN.data(), ax);
-        const double dU = (s0 < 0.0 ? 1.0 : -1.0) * 0.5 * k * y * y * h;
-        for (unsigned int a = 0; a < nn; ++a)
-          {
-            grad[2 * a] -= dU * N[a] * ax.x / ds;
-            grad[2 * a + 1] -= dU * N[a] * ax.y / ds;
-          }
-        if (tangent)
-          {
-            const double step = 1e-6;
-            std::vector<double> Xs(X, X + nd), gp(nd), gm(nd);
-            double dummy;
-            for (unsigned int j = 0; j < nd; ++j)
-              {
-                Xs[j] = X[j] + step;
-                channel_wall_element(pos, h, k, Xs.data(), ax, dummy, gp.data());
-                Xs[j] = X[j] - step;
-                channel_wall_element(pos, h, k, Xs.data(), ax, dummy, gm.data());
-                Xs[j] = X[j];
-                for (unsigned int i = 0; i < nd; ++i)
-                  tangent[i * nd + j] = (gp[i] - gm[i]) / (2.0 * step);
-              }
-          }
-      }
     return true;
   }
 } // namespace wirefem::fem

@@ -260,9 +260,9 @@ namespace wirefem::fem
     // The spring law (capstan only): a sticking spring per wall contact,
     // whose history is the last accepted step's; the trial is kept in e.
     SpringFriction sf;
-    const bool touching =
-        wall_contact_spring(radius, wall_settings, node_weight(k), scene.contact.friction.tangential_stiffness_ratio,
-                            position(*rq.u, k), position(u, k), rq.step, cap.history[k], cc, sf);
+    const bool touching = wall_contact_spring(
+        radius, wall_settings, node_weight(k), scene.contact.friction.tangential_stiffness_ratio,
+        position(*rq.u, k), position(u, k), rq.step, cap.history[k], cc, sf);
     if (touching)
       e.wall_history[k] = sf.history;
     return touching;

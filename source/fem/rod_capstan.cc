@@ -14,7 +14,8 @@ namespace wirefem::fem
     // contacts act at the nodes, each over the wire length it stands for.
     const auto &cs = s.capstan;
     cap.Rc = radius - 0.5 * diameter; // the centreline on the wall
-    n_cells = std::max(1u, static_cast<unsigned int>(std::lround(cs.wrap_angle * cap.Rc / s.fem.element_length)));
+    n_cells =
+        std::max(1u, static_cast<unsigned int>(std::lround(cs.wrap_angle * cap.Rc / s.fem.element_length)));
     h = cs.wrap_angle * cap.Rc / n_cells;
     a_left = 0.0;
     a_right = n_cells * h;

@@ -25,7 +25,8 @@ namespace wirefem::fem
         std::string h;
         for (const double r : history)
           h += fmt::format(" {:.2e}", r);
-        std::cerr << fmt::format("load factor {:.6g}: {}; residuals{}\n", factor, ok ? "converged" : "failed", h);
+        std::cerr << fmt::format("load factor {:.6g}: {}; residuals{}\n", factor, ok ? "converged" : "failed",
+                                 h);
       }
     path.residual = history.empty() ? INFINITY : history.back() / force_scale;
     if (ok)
@@ -70,9 +71,6 @@ namespace wirefem::fem
     // along its unstable mode, to the side of the transverse end force, and
     // solved again. So the path is the stable branch connected to the
     // unloaded rod, the one the chain's dynamic relaxation falls onto.
-    const auto &cl = scene.cantilever;
-    const unsigned int tip = n_nodes - 1;
-    const int tip_y = 3 * (tip - 1) + 1; // in the free dofs, which start at node 1
     dealii::Vector<double> mode;
     int cuts = 0;
     while (load_factor != goal && cuts <= 12)
@@ -92,26 +90,8 @@ namespace wirefem::fem
             path.increment *= 0.5;
             continue;
           }
-        for (unsigned int attempt = 0; ok && path.lowest_eigenvalue < 0.0 && attempt < 4; ++attempt)
-          {
-            const double side = mode[tip_y] * (cl.end_force_y != 0.0 ? cl.end_force_y : 1.0) >= 0.0 ? 1.0 : -1.0;
-            constexpr double amplitudes[4] = {0.02, 0.1, 0.3, 0.6};
-            const dealii::Vector<double> u_unstable = u;
-            const double shift = side * amplitudes[attempt] * cl.length / mode.linfty_norm();
-            restore(start);
-            for (unsigned int j = 0; j < mode.size(); ++j)
-              u[3 + j] = u_unstable[3 + j] + shift * mode[j];
-            ++path.unstable_states_left;
-            ok = static_step(target);
-            if (!ok)
-              {
-                restore(start);
-                u = u_unstable;
-                ok = static_step(target);
-                break;
-              }
-            path.lowest_eigenvalue = lowest_eigenvalue(mode);
-          }
+        if (ok && path.lowest_eigenvalue < 0.0)
+          ok = leave_unstable_state(start, target, mode);
         // An increment that turns a section by more than 0.25 rad is redone
         // in halves: with large increments Newton can land on another branch
         // of equilibria (past the Euler load, on the mirror image of the one
@@ -132,8 +112,42 @@ namespace wirefem::fem
         ++path.increments;
       }
 
+    return equilibrium(load_factor == goal);
+  }
+
+  bool RodModel::Impl::leave_unstable_state(const Committed &start, const double target,
+                                            dealii::Vector<double> &mode)
+  {
+    // Along the unstable mode, to the side of the transverse end force, by
+    // growing amplitudes; back to the unstable state when Newton fails there.
+    const auto &cl = scene.cantilever;
+    const int tip_y = 3 * (n_nodes - 2) + 1; // the last node's y in the free dofs, which start at node 1
+    for (unsigned int attempt = 0; path.lowest_eigenvalue < 0.0 && attempt < 4; ++attempt)
+      {
+        const double side = mode[tip_y] * (cl.end_force_y != 0.0 ? cl.end_force_y : 1.0) >= 0.0 ? 1.0 : -1.0;
+        constexpr double amplitudes[4] = {0.02, 0.1, 0.3, 0.6};
+        const dealii::Vector<double> u_unstable = u;
+        const double shift = side * amplitudes[attempt] * cl.length / mode.linfty_norm();
+        restore(start);
+        for (unsigned int j = 0; j < mode.size(); ++j)
+          u[3 + j] = u_unstable[3 + j] + shift * mode[j];
+        ++path.unstable_states_left;
+        if (!static_step(target))
+          {
+            restore(start);
+            u = u_unstable;
+            return static_step(target);
+          }
+        path.lowest_eigenvalue = lowest_eigenvalue(mode);
+      }
+    return true;
+  }
+
+  core::Equilibrium RodModel::Impl::equilibrium(const bool converged) const
+  {
+    const unsigned int tip = n_nodes - 1;
     core::Equilibrium out;
-    out.converged = load_factor == goal;
+    out.converged = converged;
     out.residual = path.residual;
     out.tip_x = u[3 * tip];
     out.tip_y = u[3 * tip + 1];

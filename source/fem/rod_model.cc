@@ -5,7 +5,7 @@ namespace wirefem::fem
   namespace
   {
     constexpr std::uint64_t fem_magic = 0x77666d66656d3031ull; // "wfmfem01"
-  } // namespace
+  }                                                            // namespace
 
   RodModel::RodModel(const scene::Scene &scene)
     : impl(std::make_unique<Impl>(scene))
@@ -17,18 +17,18 @@ namespace wirefem::fem
   std::string RodModel::description() const
   {
     const auto &s = impl->scene.fem;
-    const std::string integrator = impl->clamped ? "static load path"
+    const std::string integrator = impl->clamped                                     ? "static load path"
                                    : s.integrator == scene::Integrator::quasi_static ? "quasi-static"
                                    : s.integrator == scene::Integrator::explicit_lumped
                                        ? "explicit (lumped mass)"
                                        : fmt::format("generalized-alpha rho = {}", s.spectral_radius);
-    const std::string rod = fmt::format("{} rod, degree {}, h = {:g}, {} dofs, {}",
-                                        s.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner",
-                                        s.degree, impl->h, impl->dof_handler.n_dofs(), integrator);
+    const std::string rod =
+        fmt::format("{} rod, degree {}, h = {:g}, {} dofs, {}",
+                    s.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner", s.degree,
+                    impl->h, impl->dof_handler.n_dofs(), integrator);
     if (impl->clamped)
       return rod;
-    return fmt::format("{}, dt {} {:.4g}", rod,
-                       impl->explicit_mode ? "=" : "<=", impl->dt_max);
+    return fmt::format("{}, dt {} {:.4g}", rod, impl->explicit_mode ? "=" : "<=", impl->dt_max);
   }
 
   void RodModel::step()

@@ -37,84 +37,83 @@
 #include <sstream>
 #include <stdexcept>
 
-
 namespace wirefem::fem
 {
   using core::Vec2;
   using injection::Side;
 
-    /// Everything an evaluation of the residual produces.
-    struct Evaluation
+  /// Everything an evaluation of the residual produces.
+  struct Evaluation
+  {
+    dealii::Vector<double> residual;    ///< full, all dofs (reactions at prescribed dofs)
+    dealii::Vector<double> force;       ///< conservative internal + contact forces, full
+    dealii::Vector<double> dissipative; ///< viscous + friction forces, full
+    dealii::Vector<double> friction;    ///< friction forces, full
+    std::vector<PointState> state;      ///< per cell and quadrature point
+    std::vector<double> node_contact_force;
+    struct Pair
     {
-      dealii::Vector<double> residual;    ///< full, all dofs (reactions at prescribed dofs)
-      dealii::Vector<double> force;       ///< conservative internal + contact forces, full
-      dealii::Vector<double> dissipative; ///< viscous + friction forces, full
-      dealii::Vector<double> friction;    ///< friction forces, full
-      std::vector<PointState> state;      ///< per cell and quadrature point
-      std::vector<double> node_contact_force;
-      struct Pair
-      {
-        int i, j;
-        double s, t, fn;
-      };
-      std::vector<Pair> pairs;
-      double axial = 0, shear = 0, bending = 0, contact = 0, plastic = 0;
-      double max_overlap = 0;
-      int n_wall = 0;
-      double push_force = 0; ///< capstan: axial force at the pushed end
-      std::vector<contact::FrictionHistory> wall_history; ///< spring law: trial, per node
+      int i, j;
+      double s, t, fn;
     };
+    std::vector<Pair> pairs;
+    double axial = 0, shear = 0, bending = 0, contact = 0, plastic = 0;
+    double max_overlap = 0;
+    int n_wall = 0;
+    double push_force = 0;                              ///< capstan: axial force at the pushed end
+    std::vector<contact::FrictionHistory> wall_history; ///< spring law: trial, per node
+  };
 
-    /// What one assembly is asked for: the state at the end of the step, the
-    /// free range, and how the time integrator weights the parts.
-    struct AssemblyRequest
+  /// What one assembly is asked for: the state at the end of the step, the
+  /// free range, and how the time integrator weights the parts.
+  struct AssemblyRequest
+  {
+    const dealii::Vector<double> *u = nullptr;       ///< positions and angles
+    const dealii::Vector<double> *a_blend = nullptr; ///< blended acceleration (inertia)
+    const dealii::Vector<double> *v0 = nullptr;      ///< the velocity is c_vel u + v0
+    double step = 0.0;                               ///< for the dashpot rates; 0: none
+    double c_vel = 0.0;
+    int first = 0, last = 0; ///< free nodes [first, last)
+    bool want_tangent = false;
+    double c_mass = 0.0;      ///< weight of the mass matrix in the tangent
+    double c_force = 1.0;     ///< weight of the forces in the tangent
+    double blend_force = 1.0; ///< weight of the conservative forces in the residual
+    bool constrain = true;    ///< eliminate the capstan roller's tangential dof
+
+    /// The part of the velocity that does not depend on u, at node k.
+    core::Vec2 velocity0(const int k) const { return {(*v0)[3 * k], (*v0)[3 * k + 1]}; }
+    /// Weight of the friction (dissipative) part of a contact tangent.
+    double friction_scale() const { return c_force > 0 ? 1.0 / c_force : 1.0; }
+
+    AssemblyRequest without_tangent() const
     {
-      const dealii::Vector<double> *u = nullptr;       ///< positions and angles
-      const dealii::Vector<double> *a_blend = nullptr; ///< blended acceleration (inertia)
-      const dealii::Vector<double> *v0 = nullptr;      ///< the velocity is c_vel u + v0
-      double step = 0.0;                               ///< for the dashpot rates; 0: none
-      double c_vel = 0.0;
-      int first = 0, last = 0; ///< free nodes [first, last)
-      bool want_tangent = false;
-      double c_mass = 0.0;      ///< weight of the mass matrix in the tangent
-      double c_force = 1.0;     ///< weight of the forces in the tangent
-      double blend_force = 1.0; ///< weight of the conservative forces in the residual
-      bool constrain = true;    ///< eliminate the capstan roller's tangential dof
+      AssemblyRequest r = *this;
+      r.want_tangent = false;
+      return r;
+    }
+  };
 
-      /// The part of the velocity that does not depend on u, at node k.
-      core::Vec2 velocity0(const int k) const { return {(*v0)[3 * k], (*v0)[3 * k + 1]}; }
-      /// Weight of the friction (dissipative) part of a contact tangent.
-      double friction_scale() const { return c_force > 0 ? 1.0 / c_force : 1.0; }
+  /// The end-of-step state of an implicit step as the Newton iteration
+  /// moves u1: v1 = c_vel u1 + v0 and a1 = (u1 - u_hat) / (beta step^2)
+  /// (zero without inertia), a_blend = (1 - alpha_m) a1 + alpha_m a_n.
+  struct StepState
+  {
+    dealii::Vector<double> u1, v1, a1, v0, a_blend, u_hat;
+    const dealii::Vector<double> *a_n = nullptr;
+    double step = 0.0, c_vel = 0.0, beta = 0.25, alpha_m = 0.0;
+    bool inertia = true;
 
-      AssemblyRequest without_tangent() const
-      {
-        AssemblyRequest r = *this;
-        r.want_tangent = false;
-        return r;
-      }
-    };
-
-    /// The end-of-step state of an implicit step as the Newton iteration
-    /// moves u1: v1 = c_vel u1 + v0 and a1 = (u1 - u_hat) / (beta step^2)
-    /// (zero without inertia), a_blend = (1 - alpha_m) a1 + alpha_m a_n.
-    struct StepState
+    /// v1, a1 and a_blend from u1.
+    void update()
     {
-      dealii::Vector<double> u1, v1, a1, v0, a_blend, u_hat;
-      const dealii::Vector<double> *a_n = nullptr;
-      double step = 0.0, c_vel = 0.0, beta = 0.25, alpha_m = 0.0;
-      bool inertia = true;
-
-      /// v1, a1 and a_blend from u1.
-      void update()
-      {
-        for (unsigned int i = 0; i < u1.size(); ++i)
-          {
-            a1[i] = inertia ? (u1[i] - u_hat[i]) / (beta * step * step) : 0.0;
-            v1[i] = c_vel * u1[i] + v0[i];
-            a_blend[i] = (1.0 - alpha_m) * a1[i] + alpha_m * (*a_n)[i];
-          }
-      }
-    };
+      for (unsigned int i = 0; i < u1.size(); ++i)
+        {
+          a1[i] = inertia ? (u1[i] - u_hat[i]) / (beta * step * step) : 0.0;
+          v1[i] = c_vel * u1[i] + v0[i];
+          a_blend[i] = (1.0 - alpha_m) * a1[i] + alpha_m * (*a_n)[i];
+        }
+    }
+  };
 
   struct RodModel::Impl
   {
@@ -149,7 +148,7 @@ namespace wirefem::fem
     double t = 0, dt = 0, dt_max = 0;
     unsigned long steps = 0, cuts = 0;
     unsigned long newton_iterations = 0; ///< linear solves of Newton's method in all
-    int first_free = 0, last_free = 0; // free nodes [first, last)
+    int first_free = 0, last_free = 0;   // free nodes [first, last)
     /// The channels push the wire deeper than `hold` inside them (those nodes
     /// are prescribed); from there to the mouth the channel walls guide it
     /// (fem::channel_wall_element in evaluate()), so a node is let go gradually
@@ -277,6 +276,13 @@ namespace wirefem::fem
     double capstan_push(double time) const;
     core::CapstanState capstan_state() const;
 
+    /// After a converged but unstable increment from `start`: the state
+    /// left along its lowest mode and solved again (at most four times);
+    /// false when Newton fails even from the unstable state.
+    bool leave_unstable_state(const Committed &start, double target, dealii::Vector<double> &mode);
+    /// The clamp loading's current state as an equilibrium.
+    core::Equilibrium equilibrium(bool converged) const;
+
     explicit Impl(const scene::Scene &s);
     /// The mesh of the whole wire that can ever enter, numbered node by node
     /// along the wire; node coordinates and the element mass matrix.
@@ -288,8 +294,17 @@ namespace wirefem::fem
     /// Section, material, contact settings, the effects of the run, and the
     /// time integrator's parameters and step.
     void build_physics(const scene::Scene &s);
+    /// Section, moment-curvature law, dashpots.
+    void build_material(const scene::Scene &s);
+    /// Wall and self contact settings, the broad phase.
+    void build_contact(const scene::Scene &s);
+    /// Time integrator (or static path), Newton's tolerance and step.
+    void build_integrator(const scene::Scene &s);
     /// The seeded shape at rest, its initial acceleration and stored energy.
     void set_initial_state(const scene::Scene &s);
+    /// The injection's initial wire: the seeded shape across the cavity (or
+    /// the S between tangential inlets), on the channel axes beyond.
+    void place_injected_wire(const scene::Scene &s);
 
     int node_dof(unsigned int node, unsigned int c) const { return static_cast<int>(3 * node + c); }
     double left_inlet_S(double time) const { return a_left - channels.injected_per_channel(time); }
@@ -328,7 +343,17 @@ namespace wirefem::fem
     std::vector<int> scratch_pick;                             ///< add_matrix
     dealii::FullMatrix<double> scratch_block;                  ///< add_matrix
     void rebuild_sparsity(int first, int last);
+    /// One implicit step: predictor, then Newton's iteration; commits and
+    /// returns true when it converges.
     bool solve_step(double step);
+    double free_residual_norm(const Evaluation &ev, int first, int last) const;
+    /// The broad phase's candidate pairs for the free range.
+    void update_contact_candidates(int first, int last);
+    /// Moves x.u1 by the Newton correction dx (with backtracking when
+    /// line_search is on); e holds the evaluation at the new x.u1 with its
+    /// tangent in K. Returns its residual norm.
+    double newton_update(const AssemblyRequest &rq, StepState &x, const dealii::Vector<double> &dx,
+                         double res, Evaluation &e, Evaluation &trial);
     /// The predictor of an implicit step of length `step` (free range
     /// [first, last)), with its kinematics.
     void predict(double step, int first, int last, StepState &x) const;

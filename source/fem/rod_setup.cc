@@ -147,7 +147,13 @@ namespace wirefem::fem
 
   void RodModel::Impl::build_physics(const scene::Scene &s)
   {
-    // Section and material.
+    build_material(s);
+    build_contact(s);
+    build_integrator(s);
+  }
+
+  void RodModel::Impl::build_material(const scene::Scene &s)
+  {
     const auto &w = s.wire;
     section.EA = w.axial_stiffness;
     section.GA = s.fem.formulation == scene::Formulation::kirchhoff
@@ -160,7 +166,6 @@ namespace wirefem::fem
       section.axial_viscosity = section.bending_viscosity = 0.0;
     viscous = section.axial_viscosity > 0 || section.bending_viscosity > 0;
     const auto &pl = w.plasticity;
-    const bool keep = s.keep_neutral_effects;
     plastic = s.plastic_bending();
     law = plastic ? material::MomentCurvatureLaw(w.bending_stiffness, pl.yield_curvature, pl.hardening_slope,
                                                  pl.hardening)
@@ -174,6 +179,11 @@ namespace wirefem::fem
       effects.push_back("plasticity");
     if (viscous)
       effects.push_back("damping");
+  }
+
+  void RodModel::Impl::build_contact(const scene::Scene &s)
+  {
+    const bool keep = s.keep_neutral_effects;
     const auto &con = s.contact;
     const auto &fr = con.friction;
     ContactSettings base;
@@ -194,6 +204,13 @@ namespace wirefem::fem
       effects.push_back("self contact");
     if (wall_settings.friction || self_settings.friction)
       effects.push_back("friction");
+    exclusion = std::max(1, static_cast<int>(std::ceil(con.exclusion_length / min_spacing - 1e-9)));
+    broad = contact::BroadPhase(diameter, con.skin, exclusion);
+  }
+
+  void RodModel::Impl::build_integrator(const scene::Scene &s)
+  {
+    const auto &w = s.wire;
     if (clamped)
       effects.push_back("end load");
     if (capstan)
@@ -216,8 +233,6 @@ namespace wirefem::fem
       }
     if (inertia)
       effects.push_back("inertia");
-    exclusion = std::max(1, static_cast<int>(std::ceil(con.exclusion_length / min_spacing - 1e-9)));
-    broad = contact::BroadPhase(diameter, con.skin, exclusion);
 
     if (integrator == scene::Integrator::generalized_alpha)
       {
@@ -242,7 +257,7 @@ namespace wirefem::fem
         const double m_t = rhoA * hm, m_r = rhoI * hm;
         const double w2 = std::max(4.0 * (section.EA + section.GA) / (m_t * hm),
                                    (section.GA * hm + 4.0 * w.bending_stiffness / hm) / m_r) +
-                          4.0 * con.normal_stiffness * hm / m_t;
+                          4.0 * s.contact.normal_stiffness * hm / m_t;
         dt_max = s.fem.time_step > 0 ? s.fem.time_step : 0.5 * 2.0 / std::sqrt(w2);
       }
     if (capstan)
@@ -262,26 +277,10 @@ namespace wirefem::fem
       window[side].length = h / p;
   }
 
-  void RodModel::Impl::set_initial_state(const scene::Scene &s)
+  void RodModel::Impl::place_injected_wire(const scene::Scene &s)
   {
     const double L0 = channels.initial_length();
-    // Initial state: straight in the channels, the seeded shape across the
-    // cavity, at rest.
-    const unsigned int n_dofs = dof_handler.n_dofs();
-    u.reinit(n_dofs);
-    v.reinit(n_dofs);
-    a.reinit(n_dofs);
-    f_old.reinit(n_dofs);
-    qp.assign(n_cells * stiffness_shape.n_q, PointState{});
-    free_range(0.0, first_free, last_free);
-    wall_time = 0.0;
-    prescribe(0.0, u, nullptr, nullptr, first_free, last_free);
-    if (clamped)
-      for (int k = first_free; k < last_free; ++k)
-        u[3 * k] = node_S[k]; // straight along +x
-    else if (capstan)
-      set_capstan_state();
-    else if (channels.is_tangential())
+    if (channels.is_tangential())
       {
         // The S (as the discrete model's: injection::Channels::initial_s).
         // The wire in a channel lies on its axis.
@@ -317,6 +316,28 @@ namespace wirefem::fem
             u[3 * k + 2] = across ? std::atan(shape.slope(xi)) : 0.0;
           }
       }
+  }
+
+  void RodModel::Impl::set_initial_state(const scene::Scene &s)
+  {
+    // Initial state: straight in the channels, the seeded shape across the
+    // cavity, at rest.
+    const unsigned int n_dofs = dof_handler.n_dofs();
+    u.reinit(n_dofs);
+    v.reinit(n_dofs);
+    a.reinit(n_dofs);
+    f_old.reinit(n_dofs);
+    qp.assign(n_cells * stiffness_shape.n_q, PointState{});
+    free_range(0.0, first_free, last_free);
+    wall_time = 0.0;
+    prescribe(0.0, u, nullptr, nullptr, first_free, last_free);
+    if (clamped)
+      for (int k = first_free; k < last_free; ++k)
+        u[3 * k] = node_S[k]; // straight along +x
+    else if (capstan)
+      set_capstan_state();
+    else
+      place_injected_wire(s);
     // The initial acceleration, and the stored energy of the perturbed
     // wire. Where its curvature exceeds the yield curvature the wire starts
     // plastically pre-bent (the return mapping from a virgin state gives the

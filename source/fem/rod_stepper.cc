@@ -119,6 +119,66 @@ namespace wirefem::fem
     return worst / largest;
   }
 
+  double RodModel::Impl::free_residual_norm(const Evaluation &ev, const int first, const int last) const
+  {
+    // The max norm over the free dofs of the (generalized-alpha blended)
+    // residual; infinite when any entry is not finite.
+    double r = 0;
+    for (int i = 3 * first; i < 3 * last; ++i)
+      {
+        const double ri = ev.residual[i] + alpha_f * f_old[i];
+        if (!std::isfinite(ri))
+          return INFINITY;
+        r = std::max(r, std::abs(ri));
+      }
+    return r;
+  }
+
+  void RodModel::Impl::update_contact_candidates(const int first, const int last)
+  {
+    dealii::TimerOutput::Scope ts(timer, "contact search");
+    std::vector<Vec2> xs(n_nodes);
+    for (unsigned int k = 0; k < n_nodes; ++k)
+      xs[k] = position(u, k);
+    broad.update(xs, first - 1, last + 1);
+  }
+
+  double RodModel::Impl::newton_update(const AssemblyRequest &rq, StepState &x,
+                                       const dealii::Vector<double> &dx, const double res, Evaluation &e,
+                                       Evaluation &trial)
+  {
+    // Full Newton update, with the tangent there; if the residual does not
+    // drop, backtrack (Armijo on the max norm) and re-linearise (unless
+    // line_search is off: then always the full update).
+    auto &u1 = x.u1;
+    const int lo = 3 * rq.first, nw = 3 * (rq.last - rq.first);
+    const dealii::Vector<double> u_start(u1);
+    double lambda = 1.0;
+    for (int i = 0; i < nw; ++i)
+      u1[lo + i] = u_start[lo + i] + dx[i];
+    x.update();
+    evaluate(rq, trial);
+    double r_new = free_residual_norm(trial, rq.first, rq.last);
+    if (!line_search || r_new < (1.0 - 1e-4) * res)
+      {
+        std::swap(e, trial);
+        return r_new;
+      }
+    for (int ls = 0; ls < 5; ++ls)
+      {
+        lambda *= 0.5;
+        for (int i = 0; i < nw; ++i)
+          u1[lo + i] = u_start[lo + i] + lambda * dx[i];
+        x.update();
+        evaluate(rq.without_tangent(), trial);
+        r_new = free_residual_norm(trial, rq.first, rq.last);
+        if (r_new < (1.0 - 1e-4 * lambda) * res)
+          break;
+      }
+    evaluate(rq, e);
+    return free_residual_norm(e, rq.first, rq.last);
+  }
+
   bool RodModel::Impl::solve_step(const double step)
   {
     const double t1 = t + step;
@@ -135,26 +195,9 @@ namespace wirefem::fem
                              last, true,       c_mass, c_force, c_force};
     const double tol = newton_tolerance;
     const int lo = 3 * first, nw = 3 * (last - first);
-    auto residual_norm = [&](const Evaluation &ev) -> double {
-      double r = 0;
-      for (int i = 0; i < nw; ++i)
-        {
-          const double ri = ev.residual[lo + i] + alpha_f * f_old[lo + i];
-          if (!std::isfinite(ri))
-            return INFINITY;
-          r = std::max(r, std::abs(ri));
-        }
-      return r;
-    };
-
+    auto residual_norm = [&](const Evaluation &ev) { return free_residual_norm(ev, first, last); };
     if (!clamped && !capstan) // the other loadings have no self contact
-      {
-        dealii::TimerOutput::Scope ts(timer, "contact search");
-        std::vector<Vec2> xs(n_nodes);
-        for (unsigned int k = 0; k < n_nodes; ++k)
-          xs[k] = position(u, k);
-        broad.update(xs, first - 1, last + 1);
-      }
+      update_contact_candidates(first, last);
 
     history.clear();
     Evaluation e, trial;
@@ -188,37 +231,7 @@ namespace wirefem::fem
           ++newton_iterations;
         }
         expand_trailing_end(dx);
-        // Full Newton update, with the tangent there; if the residual does
-        // not drop, backtrack (Armijo on the max norm) and re-linearise
-        // (unless line_search is off: then always the full update).
-        const dealii::Vector<double> u_start(u1);
-        double lambda = 1.0;
-        for (int i = 0; i < nw; ++i)
-          u1[lo + i] = u_start[lo + i] + dx[i];
-        x.update();
-        evaluate(rq, trial);
-        double r_new = residual_norm(trial);
-        if (!line_search || r_new < (1.0 - 1e-4) * res)
-          {
-            std::swap(e, trial);
-            res = r_new;
-          }
-        else
-          {
-            for (int ls = 0; ls < 5; ++ls)
-              {
-                lambda *= 0.5;
-                for (int i = 0; i < nw; ++i)
-                  u1[lo + i] = u_start[lo + i] + lambda * dx[i];
-                x.update();
-                evaluate(rq.without_tangent(), trial);
-                r_new = residual_norm(trial);
-                if (r_new < (1.0 - 1e-4 * lambda) * res)
-                  break;
-              }
-            evaluate(rq, e);
-            res = residual_norm(e);
-          }
+        res = newton_update(rq, x, dx, res, e, trial);
         history.push_back(res);
       }
     return false;

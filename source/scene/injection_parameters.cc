@@ -41,8 +41,7 @@ namespace wirefem::scene
               "forces at which the penalty overlap matters.");
     d.declare("Injection/Jamming window", "1", any_double,
               "Injected length (d) over which the inlet force is averaged for the jamming test.");
-    d.declare("Injection/Maximum time", "inf", Patterns::Anything(),
-              "Stop at this time ('inf': no limit).");
+    d.declare("Injection/Maximum time", "inf", Patterns::Anything(), "Stop at this time ('inf': no limit).");
   }
 
   void InjectionParameters::parse(const Declarations &d, const std::string &where)

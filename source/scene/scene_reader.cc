@@ -77,19 +77,20 @@ namespace wirefem::scene
             {
               const double ne = L / s.fem.element_length;
               check(s.fem.element_length > 0 && std::abs(ne - std::round(ne)) < 1e-9 * ne && ne >= 1, w,
-                    "FEM/Element length", "L / h = " + std::to_string(ne) + " must be a whole number of elements");
+                    "FEM/Element length",
+                    "L / h = " + std::to_string(ne) + " must be a whole number of elements");
             }
           return;
         }
-      check(ds.segment_length > 0 && ds.segment_length <= 0.25 * s.cavity.radius, w, "Discrete/Segment length",
-            "must be in (0, r/4]");
+      check(ds.segment_length > 0 && ds.segment_length <= 0.25 * s.cavity.radius, w,
+            "Discrete/Segment length", "must be in (0, r/4]");
       if (s.setup == Setup::capstan)
         return;
       const double n_segments = 2.0 * s.cavity.radius / ds.segment_length;
       check(std::abs(n_segments - std::round(n_segments)) < 1e-9 * n_segments, w, "Discrete/Segment length",
             "2 r / lambda_0 = " + std::to_string(n_segments) + " must be a whole number of segments");
-      check(s.fem.element_length > 0 && s.fem.element_length <= 0.25 * s.cavity.radius, w, "FEM/Element length",
-            "must be in (0, r/4]");
+      check(s.fem.element_length > 0 && s.fem.element_length <= 0.25 * s.cavity.radius, w,
+            "FEM/Element length", "must be in (0, r/4]");
     }
 
     /// Values that each pass their section's checks but not together: what

@@ -4,6 +4,7 @@
 #include <wirefem/version.h>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <array>
@@ -17,6 +18,24 @@
 
 namespace wirefem::simulation
 {
+  namespace
+  {
+    /// shape.csv (s, x, y per node of the last equilibrium) and history.csv
+    /// (one row per recorded equilibrium).
+    void write_tables(const std::filesystem::path &dir, const core::Equilibrium &eq,
+                      const std::vector<std::array<double, 5>> &recorded)
+    {
+      std::ofstream shape(dir / "shape.csv");
+      shape << "s,x,y\n";
+      for (std::size_t k = 0; k < eq.S.size(); ++k)
+        shape << fmt::format("{:.17g},{:.17g},{:.17g}\n", eq.S[k], eq.x[k], eq.y[k]);
+      std::ofstream history(dir / "history.csv");
+      history << "load_factor,tip_x,tip_y,tip_rotation,plastic_work\n";
+      for (const auto &h : recorded)
+        history << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", h[0], h[1], h[2], h[3], h[4]);
+    }
+  } // namespace
+
   CantileverResult run_cantilever(const scene::Scene &scene)
   {
     const auto wall_start = std::chrono::steady_clock::now();
@@ -48,23 +67,10 @@ namespace wirefem::simulation
     result.steps = model->n_steps();
     result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     const auto &effects = model->active_effects();
-    std::cout << model->description() << "\nactive effects: ";
-    for (std::size_t i = 0; i < effects.size(); ++i)
-      std::cout << (i ? ", " : "") << effects[i];
-    std::cout << std::endl;
+    std::cout << model->description() << "\nactive effects: " << fmt::format("{}", fmt::join(effects, ", "))
+              << std::endl;
 
-    {
-      std::ofstream shape(dir / "shape.csv");
-      shape << "s,x,y\n";
-      for (std::size_t k = 0; k < eq.S.size(); ++k)
-        shape << fmt::format("{:.17g},{:.17g},{:.17g}\n", eq.S[k], eq.x[k], eq.y[k]);
-    }
-    {
-      std::ofstream history(dir / "history.csv");
-      history << "load_factor,tip_x,tip_y,tip_rotation,plastic_work\n";
-      for (const auto &h : recorded)
-        history << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", h[0], h[1], h[2], h[3], h[4]);
-    }
+    write_tables(dir, eq, recorded);
     nlohmann::json j;
     for (const auto &[key, value] : model->statistics())
       j[key] = value;

@@ -20,8 +20,8 @@ namespace wirefem::simulation
   {
     const char *mangled = typeid(model).name();
     int status = 0;
-    const std::unique_ptr<char, void (*)(void *)> name(abi::__cxa_demangle(mangled, nullptr, nullptr, &status),
-                                                       std::free);
+    const std::unique_ptr<char, void (*)(void *)> name(
+        abi::__cxa_demangle(mangled, nullptr, nullptr, &status), std::free);
     return status == 0 && name ? name.get() : mangled;
   }
 } // namespace wirefem::simulation

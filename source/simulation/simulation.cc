@@ -24,6 +24,7 @@
 #include <stdexcept>
 #include <sstream>
 #include <map>
+#include <memory>
 
 namespace wirefem::simulation
 {
@@ -238,274 +239,338 @@ namespace wirefem::simulation
         s += (s.empty() ? "" : ", ") + x;
       return s;
     }
-  } // namespace
+    /// Everything one run works on: the Box2D-style context that the stages
+    /// below take in turn (open, step and check, observe, finish).
+    struct Run
+    {
+      Run(const scene::Scene &scene, const RunOptions &options)
+        : scene(scene)
+        , options(options)
+        , wall_start(std::chrono::steady_clock::now())
+        , model_ptr(make_model(scene))
+        , model(*model_ptr)
+        , dir(scene.output.directory)
+        , checkpoint_file(dir / "checkpoint.bin")
+        , pvd((dir / "wire.pvd").string())
+        , progress(scene.output.progress)
+      {
+      }
+      const scene::Scene &scene;
+      const RunOptions &options;
+      const std::chrono::steady_clock::time_point wall_start;
+      const std::unique_ptr<core::Model> model_ptr;
+      core::Model &model;
+      const std::filesystem::path dir;
+      const std::filesystem::path checkpoint_file;
+      io::PvdCollection pvd;
+      std::unique_ptr<io::SeriesWriter> series;
+      io::Progress progress;
+      LoopState loop;
+      RunResult result;
+      unsigned long steps_at_start = 0; ///< rate and ETA count what this process did
+      double phi_at_start = 0.0;
+      std::chrono::steady_clock::time_point last_checkpoint;
 
-  RunResult run(const scene::Scene &scene, const RunOptions &options)
-  {
-    const auto wall_start = std::chrono::steady_clock::now();
-    const auto model_ptr = make_model(scene);
-    core::Model &model = *model_ptr;
-    const double r = scene.cavity.radius;
-    const auto &inj = scene.injection;
+      double radius() const { return scene.cavity.radius; }
+      double elapsed() const
+      {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      }
+    };
 
-    namespace fs = std::filesystem;
-    const fs::path dir(scene.output.directory);
-    const fs::path checkpoint_file = dir / "checkpoint.bin";
-    io::PvdCollection pvd((dir / "wire.pvd").string());
-    LoopState loop;
-    loop.next_row = loop.next_vtu = loop.previous_length = model.injected_length();
-    if (options.resume)
-      read_checkpoint(checkpoint_file, scene, loop, pvd, model);
-    fs::create_directories(dir);
-    std::cout << fmt::format("wirefem {}: scene {} ({} model), f = r/d = {}, {}\n", version(), scene.name,
-                             model.name(), r, model.description())
-              << "active effects: " << join(model.active_effects()) << '\n'
-              << "output: " << dir.string() << std::endl;
-
-    if (options.resume)
-      std::cout << fmt::format("resuming at t = {:.6g}, L = {:.6g}, step {}\n", model.time(),
-                               model.injected_length(), model.n_steps());
-    auto series = [&] {
+    /// Resumes from the checkpoint if asked, prints the banner and opens
+    /// series.csv (continued where the checkpoint left it).
+    void open_run(Run &run)
+    {
+      auto &model = run.model;
+      auto &loop = run.loop;
+      loop.next_row = loop.next_vtu = loop.previous_length = model.injected_length();
+      if (run.options.resume)
+        read_checkpoint(run.checkpoint_file, run.scene, loop, run.pvd, model);
+      std::filesystem::create_directories(run.dir);
+      std::cout << fmt::format("wirefem {}: scene {} ({} model), f = r/d = {}, {}\n", version(),
+                               run.scene.name, model.name(), run.radius(), model.description())
+                << "active effects: " << join(model.active_effects()) << '\n'
+                << "output: " << run.dir.string() << std::endl;
+      if (run.options.resume)
+        std::cout << fmt::format("resuming at t = {:.6g}, L = {:.6g}, step {}\n", model.time(),
+                                 model.injected_length(), model.n_steps());
       try
         {
-          return io::SeriesWriter((dir / "series.csv").string(), columns,
-                                  options.resume ? model.time() : -1.0);
+          run.series = std::make_unique<io::SeriesWriter>((run.dir / "series.csv").string(), columns,
+                                                          run.options.resume ? model.time() : -1.0);
         }
       catch (const io::SeriesColumnsError &e)
         {
           throw scene::InputError(std::string("cannot resume: ") + e.what());
         }
-    }();
-    io::Progress progress(scene.output.progress);
-    // Rate and ETA count what this process did (a resumed run starts late).
-    const unsigned long steps_at_start = model.n_steps();
-    const double phi_at_start = analysis::packing_density(model.injected_length(), r);
+      run.steps_at_start = model.n_steps();
+      run.phi_at_start = analysis::packing_density(model.injected_length(), run.radius());
+      run.result.max_penetration = loop.max_penetration;
+      run.last_checkpoint = std::chrono::steady_clock::now();
+    }
 
-    RunResult result;
-    auto &next_row = loop.next_row;
-    auto &next_vtu = loop.next_vtu;
-    auto &vtu_count = loop.vtu_count;
-    auto &force_mean = loop.force_mean;
-    auto &previous_length = loop.previous_length;
-    result.max_penetration = loop.max_penetration;
-    interrupt_requested = 0;
-    const auto old_int = std::signal(SIGINT, request_interrupt);
-    const auto old_term = std::signal(SIGTERM, request_interrupt);
-    auto last_checkpoint = std::chrono::steady_clock::now();
-    auto save_checkpoint = [&]() {
-      loop.max_penetration = result.max_penetration;
-      const double now = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-      LoopState saved = loop;
-      saved.wall_time += now;
-      write_checkpoint(checkpoint_file, scene, saved, pvd, model);
-      last_checkpoint = std::chrono::steady_clock::now();
-    };
+    void save_checkpoint(Run &run)
+    {
+      run.loop.max_penetration = run.result.max_penetration;
+      LoopState saved = run.loop;
+      saved.wall_time += run.elapsed();
+      write_checkpoint(run.checkpoint_file, run.scene, saved, run.pvd, run.model);
+      run.last_checkpoint = std::chrono::steady_clock::now();
+    }
 
-    auto write_vtu = [&](const core::WireState &w) {
-      const std::string name = fmt::format("wire_{:05d}.vtu", vtu_count++);
-      io::write_vtu((dir / name).string(), w);
-      pvd.add(w.time, name);
-      pvd.write();
-    };
-    auto observe = [&](bool force_vtu, bool write_row) {
+    /// The wire now: a row of series.csv (write_row), a VTU file when due
+    /// (or force_vtu), and the loops and morphology of the result.
+    core::WireState observe(Run &run, const bool force_vtu, const bool write_row)
+    {
+      auto &model = run.model;
       const auto w = model.wire_state();
       const auto morph = analysis::classify(w);
       const int loops = analysis::count_loops(w);
       const auto &e = model.energies();
       const auto s = model.report();
-      const double phi = analysis::packing_density(w.injected_length, r);
+      const double phi = analysis::packing_density(w.injected_length, run.radius());
       if (write_row)
-        series.write_row({model.time(),
-                          w.injected_length,
-                          phi,
-                          0.5 * (model.force_left() + model.force_right()),
-                          model.force_left(),
-                          model.force_right(),
-                          double(loops),
-                          double(s.n_self_contacts),
-                          double(s.n_wall_contacts),
-                          e.bending,
-                          e.stretching,
-                          e.kinetic,
-                          e.contact,
-                          e.plastic,
-                          e.friction,
-                          e.damping,
-                          e.injection_work,
-                          e.balance_error(),
-                          s.max_penetration,
-                          morph.symmetry,
-                          morph.curvature_ratio,
-                          morph.inner_wire_fraction});
-      if (force_vtu || (scene.output.vtu_interval > 0 && w.injected_length >= next_vtu))
+        run.series->write_row({model.time(),
+                               w.injected_length,
+                               phi,
+                               0.5 * (model.force_left() + model.force_right()),
+                               model.force_left(),
+                               model.force_right(),
+                               double(loops),
+                               double(s.n_self_contacts),
+                               double(s.n_wall_contacts),
+                               e.bending,
+                               e.stretching,
+                               e.kinetic,
+                               e.contact,
+                               e.plastic,
+                               e.friction,
+                               e.damping,
+                               e.injection_work,
+                               e.balance_error(),
+                               s.max_penetration,
+                               morph.symmetry,
+                               morph.curvature_ratio,
+                               morph.inner_wire_fraction});
+      const double vtu_interval = run.scene.output.vtu_interval;
+      if (force_vtu || (vtu_interval > 0 && w.injected_length >= run.loop.next_vtu))
         {
-          write_vtu(w);
-          next_vtu += scene.output.vtu_interval;
+          const std::string name = fmt::format("wire_{:05d}.vtu", run.loop.vtu_count++);
+          io::write_vtu((run.dir / name).string(), w);
+          run.pvd.add(w.time, name);
+          run.pvd.write();
+          run.loop.next_vtu += vtu_interval;
         }
-      result.loops = loops;
-      result.shape = morph;
+      run.result.loops = loops;
+      run.result.shape = morph;
       return w;
-    };
+    }
 
-    const double phi_max = inj.maximum_packing_density;
-    while (true)
-      {
-        try
-          {
-            model.step();
-          }
-        catch (const std::runtime_error &e)
-          {
-            result.failed = true;
-            result.stop_reason = e.what();
-            break;
-          }
-        const auto s = model.report();
-        result.max_penetration = std::max(result.max_penetration, s.max_penetration);
-        const double L = model.injected_length();
-        const double mean_weight = std::min(1.0, (L - previous_length) / inj.jamming_window);
-        previous_length = L;
-        force_mean += mean_weight * (0.5 * (model.force_left() + model.force_right()) - force_mean);
-        const double phi = analysis::packing_density(L, r);
-        if (L >= next_row)
-          {
-            observe(false, true);
-            next_row += scene.output.interval;
-          }
-        if (model.n_steps() % 256 == 0 && !model.finite())
-          {
-            result.failed = true;
-            result.stop_reason = "numerical blow-up: non-finite positions (reduce the time step)";
-            break;
-          }
-        if (s.max_penetration > 0.5)
-          {
-            result.failed = true;
-            result.stop_reason = fmt::format(
-                "contact overlap {:.3f} d exceeds 0.5 d: Contact/Normal stiffness too low for the forces, "
-                "or the time step too large",
-                s.max_penetration);
-            break;
-          }
-        if (force_mean > inj.jamming_force)
-          {
-            result.jammed = true;
-            result.stop_reason =
-                fmt::format("jammed: mean inlet force {:.4g} > Injection/Jamming force {:.4g}", force_mean,
-                            inj.jamming_force);
-            break;
-          }
-        if (phi >= phi_max)
-          {
-            result.stop_reason = fmt::format("reached Injection/Maximum packing density {:.4g}", phi_max);
-            break;
-          }
-        if (interrupt_requested)
-          {
-            result.interrupted = true;
-            save_checkpoint();
-            result.stop_reason = "interrupted; continue with --resume";
-            break;
-          }
-        if (scene.output.checkpoint_interval > 0 && model.n_steps() % 1024 == 0 &&
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint).count() >=
-                scene.output.checkpoint_interval)
-          save_checkpoint();
-        if (model.time() >= inj.maximum_time)
-          {
-            result.stop_reason = fmt::format("reached Injection/Maximum time {:.4g}", inj.maximum_time);
-            break;
-          }
-        if (model.n_steps() % 64 == 0)
-          {
-            const double elapsed =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-            const double rate = (model.n_steps() - steps_at_start) / std::max(elapsed, 1e-9);
-            const double eta = (phi > phi_at_start) ? elapsed * (phi_max - phi) / (phi - phi_at_start) : 0.0;
-            progress.update(fmt::format("phi {:.4f}  L {:.1f}  F {:.3g}  contacts {}  {:.0f} steps/s  "
-                                        "ETA(phi_max) {:.0f} s",
-                                        phi, L, force_mean, s.n_self_contacts + s.n_wall_contacts, rate,
-                                        eta));
-          }
-      }
-    progress.finish();
-    std::signal(SIGINT, old_int);
-    std::signal(SIGTERM, old_term);
+    /// After a step: the jamming force's running mean, a row when due, and
+    /// the reasons to stop (a numerical limit, jamming, the maximum packing
+    /// density or time, an interruption). True when the run ends here.
+    bool after_step(Run &run)
+    {
+      auto &model = run.model;
+      auto &loop = run.loop;
+      auto &result = run.result;
+      const auto &inj = run.scene.injection;
+      const auto s = model.report();
+      result.max_penetration = std::max(result.max_penetration, s.max_penetration);
+      const double L = model.injected_length();
+      const double mean_weight = std::min(1.0, (L - loop.previous_length) / inj.jamming_window);
+      loop.previous_length = L;
+      loop.force_mean += mean_weight * (0.5 * (model.force_left() + model.force_right()) - loop.force_mean);
+      const double phi = analysis::packing_density(L, run.radius());
+      if (L >= loop.next_row)
+        {
+          observe(run, false, true);
+          loop.next_row += run.scene.output.interval;
+        }
+      if (model.n_steps() % 256 == 0 && !model.finite())
+        {
+          result.failed = true;
+          result.stop_reason = "numerical blow-up: non-finite positions (reduce the time step)";
+          return true;
+        }
+      if (s.max_penetration > 0.5)
+        {
+          result.failed = true;
+          result.stop_reason =
+              fmt::format("contact overlap {:.3f} d exceeds 0.5 d: Contact/Normal stiffness too low for the "
+                          "forces, or the time step too large",
+                          s.max_penetration);
+          return true;
+        }
+      if (loop.force_mean > inj.jamming_force)
+        {
+          result.jammed = true;
+          result.stop_reason = fmt::format("jammed: mean inlet force {:.4g} > Injection/Jamming force {:.4g}",
+                                           loop.force_mean, inj.jamming_force);
+          return true;
+        }
+      if (phi >= inj.maximum_packing_density)
+        {
+          result.stop_reason =
+              fmt::format("reached Injection/Maximum packing density {:.4g}", inj.maximum_packing_density);
+          return true;
+        }
+      if (interrupt_requested)
+        {
+          result.interrupted = true;
+          save_checkpoint(run);
+          result.stop_reason = "interrupted; continue with --resume";
+          return true;
+        }
+      if (run.scene.output.checkpoint_interval > 0 && model.n_steps() % 1024 == 0 &&
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - run.last_checkpoint).count() >=
+              run.scene.output.checkpoint_interval)
+        save_checkpoint(run);
+      if (model.time() >= inj.maximum_time)
+        {
+          result.stop_reason = fmt::format("reached Injection/Maximum time {:.4g}", inj.maximum_time);
+          return true;
+        }
+      return false;
+    }
 
-    const bool finite = model.finite();
-    if (!finite && !result.failed)
-      {
-        result.failed = true;
-        result.stop_reason = "numerical blow-up: non-finite positions";
-      }
-    // An interrupted run leaves series.csv as the checkpoint has it, so that
-    // the resumed run continues it row for row.
-    const auto w = finite ? observe(true, !result.interrupted) : model.wire_state();
-    result.phi_final = analysis::packing_density(model.injected_length(), r);
-    result.steps = model.n_steps();
-    result.energy_balance_error = model.energies().balance_error();
-    result.wall_time_s =
-        loop.wall_time + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    if (finite)
-      {
-        io::PictureOptions opt;
-        opt.size_px = scene.output.picture_size;
-        opt.tangential_channels = scene.injection.tangential_channels;
-        opt.caption = fmt::format("{}  phi = {:.3f}  loops = {}  {}", scene.name, result.phi_final,
-                                  result.loops, result.shape.phase);
-        io::write_pictures(w, (dir / "final.png").string(), (dir / "final.svg").string(), opt);
-      }
+    void show_progress(Run &run)
+    {
+      auto &model = run.model;
+      const double elapsed = run.elapsed();
+      const double phi = analysis::packing_density(model.injected_length(), run.radius());
+      const double phi_max = run.scene.injection.maximum_packing_density;
+      const double rate = (model.n_steps() - run.steps_at_start) / std::max(elapsed, 1e-9);
+      const double eta =
+          (phi > run.phi_at_start) ? elapsed * (phi_max - phi) / (phi - run.phi_at_start) : 0.0;
+      const auto s = model.report();
+      run.progress.update(fmt::format("phi {:.4f}  L {:.1f}  F {:.3g}  contacts {}  {:.0f} steps/s  "
+                                      "ETA(phi_max) {:.0f} s",
+                                      phi, model.injected_length(), run.loop.force_mean,
+                                      s.n_self_contacts + s.n_wall_contacts, rate, eta));
+    }
 
-    const auto &e = model.energies();
-    nlohmann::json j;
-    j["model"] = model.name();
-    j["solver"] = solver_name(model);
-    j["scene"] = scene.name;
-    j["cavity_radius"] = scene.cavity.radius;
-    j["phi_final"] = result.phi_final;
-    j["injected_length"] = model.injected_length();
-    j["jammed"] = result.jammed;
-    j["failed"] = result.failed;
-    j["interrupted"] = result.interrupted;
-    j["stop_reason"] = result.stop_reason;
-    j["loops"] = result.loops;
-    j["morphology"] = result.shape.phase.empty() ? "plastic" : result.shape.phase;
-    for (const auto &[key, value] : analysis::morphology_numbers(result.shape))
-      j[key] = value;
-    j["steps"] = result.steps;
-    j["time"] = model.time();
-    j["time_step"] = model.time_step();
-    j["wall_time_s"] = result.wall_time_s;
-    j["active_effects"] = model.active_effects();
-    j["version"] = version();
-    j["max_penetration"] = result.max_penetration;
-    j["energy"] = {{"initial", e.initial},
-                   {"injection_work", e.injection_work},
-                   {"stretching", e.stretching},
-                   {"shear", e.shear},
-                   {"bending", e.bending},
-                   {"contact", e.contact},
-                   {"kinetic", e.kinetic},
-                   {"friction_stored", e.friction_stored},
-                   {"plastic_dissipation", e.plastic},
-                   {"friction_dissipation", e.friction},
-                   {"damping_dissipation", e.damping},
-                   {"balance_error", e.balance_error()}};
-    j["force_final"] = 0.5 * (model.force_left() + model.force_right());
-    add_fits(j, (dir / "series.csv").string(), result.phi_final);
-    // Written whole and then renamed, and only then is the checkpoint
-    // dropped: a run stopped in between still resumes.
-    io::write_file_atomically(dir / "summary.json", j.dump(2) + '\n');
-    if (!result.interrupted)
-      fs::remove(checkpoint_file);
+    /// The steps until a reason to stop; SIGINT and SIGTERM end the current
+    /// step and leave a checkpoint.
+    void step_until_done(Run &run)
+    {
+      interrupt_requested = 0;
+      const auto old_int = std::signal(SIGINT, request_interrupt);
+      const auto old_term = std::signal(SIGTERM, request_interrupt);
+      while (true)
+        {
+          try
+            {
+              run.model.step();
+            }
+          catch (const std::runtime_error &e)
+            {
+              run.result.failed = true;
+              run.result.stop_reason = e.what();
+              break;
+            }
+          if (after_step(run))
+            break;
+          if (run.model.n_steps() % 64 == 0)
+            show_progress(run);
+        }
+      run.progress.finish();
+      std::signal(SIGINT, old_int);
+      std::signal(SIGTERM, old_term);
+    }
 
-    model.print_timing(std::cout);
-    std::cout << fmt::format("{}: {}\nphi = {:.4f}, loops = {}, morphology = {}, symmetry = {:.3f}, "
-                             "steps = {}, wall time = {:.1f} s, energy balance error = {:.2e}, "
-                             "max overlap = {:.4f} d\n",
-                             result.failed ? "stopped" : "finished", result.stop_reason, result.phi_final,
-                             result.loops, result.shape.phase, result.shape.symmetry, result.steps,
-                             result.wall_time_s, result.energy_balance_error, result.max_penetration);
-    return result;
+    nlohmann::json summary(const Run &run)
+    {
+      const auto &model = run.model;
+      const auto &result = run.result;
+      const auto &e = model.energies();
+      nlohmann::json j;
+      j["model"] = model.name();
+      j["solver"] = solver_name(model);
+      j["scene"] = run.scene.name;
+      j["cavity_radius"] = run.radius();
+      j["phi_final"] = result.phi_final;
+      j["injected_length"] = model.injected_length();
+      j["jammed"] = result.jammed;
+      j["failed"] = result.failed;
+      j["interrupted"] = result.interrupted;
+      j["stop_reason"] = result.stop_reason;
+      j["loops"] = result.loops;
+      j["morphology"] = result.shape.phase.empty() ? "plastic" : result.shape.phase;
+      for (const auto &[key, value] : analysis::morphology_numbers(result.shape))
+        j[key] = value;
+      j["steps"] = result.steps;
+      j["time"] = model.time();
+      j["time_step"] = model.time_step();
+      j["wall_time_s"] = result.wall_time_s;
+      j["active_effects"] = model.active_effects();
+      j["version"] = version();
+      j["max_penetration"] = result.max_penetration;
+      j["energy"] = {{"initial", e.initial},
+                     {"injection_work", e.injection_work},
+                     {"stretching", e.stretching},
+                     {"shear", e.shear},
+                     {"bending", e.bending},
+                     {"contact", e.contact},
+                     {"kinetic", e.kinetic},
+                     {"friction_stored", e.friction_stored},
+                     {"plastic_dissipation", e.plastic},
+                     {"friction_dissipation", e.friction},
+                     {"damping_dissipation", e.damping},
+                     {"balance_error", e.balance_error()}};
+      j["force_final"] = 0.5 * (model.force_left() + model.force_right());
+      add_fits(j, (run.dir / "series.csv").string(), result.phi_final);
+      return j;
+    }
+
+    /// The final state: its row, VTU and pictures, summary.json, and only
+    /// then the checkpoint dropped (a run stopped in between still resumes).
+    void finish_run(Run &run)
+    {
+      auto &model = run.model;
+      auto &result = run.result;
+      const bool finite = model.finite();
+      if (!finite && !result.failed)
+        {
+          result.failed = true;
+          result.stop_reason = "numerical blow-up: non-finite positions";
+        }
+      // An interrupted run leaves series.csv as the checkpoint has it, so
+      // that the resumed run continues it row for row.
+      const auto w = finite ? observe(run, true, !result.interrupted) : model.wire_state();
+      result.phi_final = analysis::packing_density(model.injected_length(), run.radius());
+      result.steps = model.n_steps();
+      result.energy_balance_error = model.energies().balance_error();
+      result.wall_time_s = run.loop.wall_time + run.elapsed();
+      if (finite)
+        {
+          io::PictureOptions opt;
+          opt.size_px = run.scene.output.picture_size;
+          opt.tangential_channels = run.scene.injection.tangential_channels;
+          opt.caption = fmt::format("{}  phi = {:.3f}  loops = {}  {}", run.scene.name, result.phi_final,
+                                    result.loops, result.shape.phase);
+          io::write_pictures(w, (run.dir / "final.png").string(), (run.dir / "final.svg").string(), opt);
+        }
+      io::write_file_atomically(run.dir / "summary.json", summary(run).dump(2) + '\n');
+      if (!result.interrupted)
+        std::filesystem::remove(run.checkpoint_file);
+      model.print_timing(std::cout);
+      std::cout << fmt::format("{}: {}\nphi = {:.4f}, loops = {}, morphology = {}, symmetry = {:.3f}, "
+                               "steps = {}, wall time = {:.1f} s, energy balance error = {:.2e}, "
+                               "max overlap = {:.4f} d\n",
+                               result.failed ? "stopped" : "finished", result.stop_reason, result.phi_final,
+                               result.loops, result.shape.phase, result.shape.symmetry, result.steps,
+                               result.wall_time_s, result.energy_balance_error, result.max_penetration);
+    }
+  } // namespace
+
+  RunResult run(const scene::Scene &scene, const RunOptions &options)
+  {
+    Run run(scene, options);
+    open_run(run);
+    step_until_done(run);
+    finish_run(run);
+    return run.result;
   }
 } // namespace wirefem::simulation

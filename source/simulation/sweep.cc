@@ -126,6 +126,59 @@ namespace wirefem::simulation
       return j.contains(key) && j[key].is_number() ? fmt::format("{}", j[key].get<double>()) : std::string();
     }
 
+    /// What the finished realizations of each cell share: their phases'
+    /// votes and their series pooled for the fits.
+    struct Pooled
+    {
+      explicit Pooled(const int n_cells)
+        : votes(n_cells)
+        , phi(n_cells)
+        , loops(n_cells)
+        , force(n_cells)
+        , sum_phi_final(n_cells, 0.0)
+      {
+      }
+      std::vector<std::map<std::string, int>> votes;
+      std::vector<std::vector<double>> phi, loops, force;
+      std::vector<double> sum_phi_final;
+    };
+
+    /// cells.csv: per cell the majority phase and the fits on the pooled
+    /// realizations; fills the diagram's cells.
+    void write_cells(const Sweep &s, const fs::path &out, const Pooled &pooled, io::PhaseDiagram &diagram)
+    {
+      const int n_rows = static_cast<int>(s.yield_curvatures.size()),
+                n_cols = static_cast<int>(s.static_coefficients.size());
+      std::ofstream cells((out / "cells.csv").string());
+      cells
+          << "kappa_theta,mu_st,runs,majority,fraction,gamma,gamma_error,phi_c,phi_c_error,beta,beta_error\n";
+      for (int i = 0; i < n_rows; ++i)
+        for (int jj = 0; jj < n_cols; ++jj)
+          {
+            const int cell = i * n_cols + jj;
+            auto &d = diagram.cells[cell];
+            for (const auto &[phase, n] : pooled.votes[cell])
+              if (n > d.votes)
+                {
+                  d.votes = n;
+                  d.majority = phase;
+                }
+            d.fraction = d.runs > 0 ? static_cast<double>(d.votes) / d.runs : 0.0;
+            // Fits on the rows of the realizations pooled (neither fit
+            // depends on the order of its rows).
+            const auto g = analysis::fit_loop_exponent(pooled.phi[cell], pooled.loops[cell]);
+            const double phi_end = d.runs > 0 ? pooled.sum_phi_final[cell] / d.runs : 0.0;
+            const auto f = analysis::fit_jamming_force(pooled.phi[cell], pooled.force[cell], 0.5 * phi_end);
+            auto value = [](const bool ok, const double v) {
+              return ok ? fmt::format("{}", v) : std::string();
+            };
+            cells << fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", s.yield_curvatures[i],
+                                 s.static_coefficients[jj], d.runs, d.majority, d.fraction,
+                                 value(g.ok, g.gamma), value(g.ok, g.gamma_error), value(f.ok, f.phi_c),
+                                 value(f.ok, f.phi_c_error), value(f.ok, f.beta), value(f.ok, f.beta_error));
+          }
+    }
+
     /// Rank 0: the tables and the picture from whatever cases are finished.
     void write_results(const Sweep &s, const std::vector<Case> &all)
     {
@@ -139,10 +192,12 @@ namespace wirefem::simulation
       diagram.kappa = s.yield_curvatures;
       diagram.mu = s.static_coefficients;
       diagram.cells.resize(n_rows * n_cols);
-      std::vector<std::map<std::string, int>> votes(n_rows * n_cols);
-      std::vector<std::vector<double>> pooled_phi(n_rows * n_cols), pooled_loops(n_rows * n_cols),
-          pooled_force(n_rows * n_cols);
-      std::vector<double> sum_phi_final(n_rows * n_cols, 0.0);
+      Pooled pooled(n_rows * n_cols);
+      auto &votes = pooled.votes;
+      auto &pooled_phi = pooled.phi;
+      auto &pooled_loops = pooled.loops;
+      auto &pooled_force = pooled.force;
+      auto &sum_phi_final = pooled.sum_phi_final;
       int finished = 0;
       for (const auto &c : all)
         {
@@ -179,34 +234,7 @@ namespace wirefem::simulation
           sum_phi_final[cell] += j.value("phi_final", 0.0);
         }
 
-      std::ofstream cells((out / "cells.csv").string());
-      cells
-          << "kappa_theta,mu_st,runs,majority,fraction,gamma,gamma_error,phi_c,phi_c_error,beta,beta_error\n";
-      for (int i = 0; i < n_rows; ++i)
-        for (int jj = 0; jj < n_cols; ++jj)
-          {
-            const int cell = i * n_cols + jj;
-            auto &d = diagram.cells[cell];
-            for (const auto &[phase, n] : votes[cell])
-              if (n > d.votes)
-                {
-                  d.votes = n;
-                  d.majority = phase;
-                }
-            d.fraction = d.runs > 0 ? static_cast<double>(d.votes) / d.runs : 0.0;
-            // Fits on the rows of the realizations pooled (neither fit
-            // depends on the order of its rows).
-            const auto g = analysis::fit_loop_exponent(pooled_phi[cell], pooled_loops[cell]);
-            const double phi_end = d.runs > 0 ? sum_phi_final[cell] / d.runs : 0.0;
-            const auto f = analysis::fit_jamming_force(pooled_phi[cell], pooled_force[cell], 0.5 * phi_end);
-            auto value = [](const bool ok, const double v) {
-              return ok ? fmt::format("{}", v) : std::string();
-            };
-            cells << fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", s.yield_curvatures[i],
-                                 s.static_coefficients[jj], d.runs, d.majority, d.fraction,
-                                 value(g.ok, g.gamma), value(g.ok, g.gamma_error), value(f.ok, f.phi_c),
-                                 value(f.ok, f.phi_c_error), value(f.ok, f.beta), value(f.ok, f.beta_error));
-          }
+      write_cells(s, out, pooled, diagram);
       diagram.title = fmt::format("{}: {} of {} runs finished", fs::path(s.file).filename().string(),
                                   finished, all.size());
       io::write_phase_diagram(diagram, (out / "phase_diagram.png").string(),
@@ -214,52 +242,59 @@ namespace wirefem::simulation
       std::cout << fmt::format("sweep: {} of {} cases finished; {}\n", finished, all.size(),
                                (out / "phase_diagram.png").string());
     }
+
+    /// The keys of the sweep file's one 'subsection Sweep' with their values
+    /// and where each was set ("file:line").
+    void read_sweep_entries(const std::string &file, std::map<std::string, std::string> &values,
+                            std::map<std::string, std::string> &where_of)
+    {
+      std::ifstream in(file);
+      std::string raw;
+      int line_no = 0;
+      bool in_sweep = false, seen_section = false;
+      const std::vector<std::string> keys = {"Base scene",      "Yield curvatures", "Static coefficients",
+                                             "Realizations",    "First seed",       "Overrides",
+                                             "Output directory"};
+      while (std::getline(in, raw))
+        {
+          ++line_no;
+          const std::string where = fmt::format("{}:{}", file, line_no);
+          const auto hash = raw.find('#');
+          const std::string l = trim(hash == std::string::npos ? raw : raw.substr(0, hash));
+          if (l.empty())
+            continue;
+          if (l == "subsection Sweep" && !in_sweep)
+            {
+              in_sweep = seen_section = true;
+              continue;
+            }
+          if (l == "end" && in_sweep)
+            {
+              in_sweep = false;
+              continue;
+            }
+          if (!in_sweep || l.rfind("set ", 0) != 0 || l.find('=') == std::string::npos)
+            throw InputError(where + ": '" + l + "': expected 'set Key = value' inside 'subsection Sweep'");
+          const auto eq = l.find('=');
+          const std::string key = trim(l.substr(4, eq - 4));
+          if (std::find(keys.begin(), keys.end(), key) == keys.end())
+            throw InputError(where + ": Sweep/" + key + ": no such key");
+          values[key] = trim(l.substr(eq + 1));
+          where_of[key] = where;
+        }
+      if (!seen_section || in_sweep)
+        throw InputError(file + ": needs one 'subsection Sweep' ... 'end'");
+    }
   } // namespace
 
   Sweep read_sweep(const std::string &file)
   {
     if (!fs::is_regular_file(file))
       throw InputError(file + ": cannot open the sweep file (no such file)");
-    std::ifstream in(file);
     Sweep s;
     s.file = file;
-    std::string raw;
-    int line_no = 0;
-    bool in_sweep = false, seen_section = false;
-    std::map<std::string, std::string> values;
-    std::map<std::string, std::string> where_of;
-    const std::vector<std::string> keys = {"Base scene",      "Yield curvatures", "Static coefficients",
-                                           "Realizations",    "First seed",       "Overrides",
-                                           "Output directory"};
-    while (std::getline(in, raw))
-      {
-        ++line_no;
-        const std::string where = fmt::format("{}:{}", file, line_no);
-        const auto hash = raw.find('#');
-        const std::string l = trim(hash == std::string::npos ? raw : raw.substr(0, hash));
-        if (l.empty())
-          continue;
-        if (l == "subsection Sweep" && !in_sweep)
-          {
-            in_sweep = seen_section = true;
-            continue;
-          }
-        if (l == "end" && in_sweep)
-          {
-            in_sweep = false;
-            continue;
-          }
-        if (!in_sweep || l.rfind("set ", 0) != 0 || l.find('=') == std::string::npos)
-          throw InputError(where + ": '" + l + "': expected 'set Key = value' inside 'subsection Sweep'");
-        const auto eq = l.find('=');
-        const std::string key = trim(l.substr(4, eq - 4));
-        if (std::find(keys.begin(), keys.end(), key) == keys.end())
-          throw InputError(where + ": Sweep/" + key + ": no such key");
-        values[key] = trim(l.substr(eq + 1));
-        where_of[key] = where;
-      }
-    if (!seen_section || in_sweep)
-      throw InputError(file + ": needs one 'subsection Sweep' ... 'end'");
+    std::map<std::string, std::string> values, where_of;
+    read_sweep_entries(file, values, where_of);
     auto need = [&](const std::string &key) {
       if (!values.count(key))
         throw InputError(file + ": Sweep/" + key + ": missing");

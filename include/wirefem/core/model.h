@@ -64,10 +64,10 @@ namespace wirefem::core
   /// over a wrap angle, pushed along it against a compressive end force).
   struct CapstanState
   {
-    double wrap_angle = 0.0;     ///< angle the frictional contacts cover (rad)
-    double pushed = 0.0;         ///< distance the trailing end was pushed (d)
-    double push_force = 0.0;     ///< axial force at the pushed end (compression positive)
-    double lead_slide = 0.0;     ///< arc distance the leading end moved (clockwise positive, d)
+    double wrap_angle = 0.0;           ///< angle the frictional contacts cover (rad)
+    double pushed = 0.0;               ///< distance the trailing end was pushed (d)
+    double push_force = 0.0;           ///< axial force at the pushed end (compression positive)
+    double lead_slide = 0.0;           ///< arc distance the leading end moved (clockwise positive, d)
     double trailing_compression = 0.0; ///< at the first segment (quadrature point)
     double max_penetration = 0.0;      ///< largest wall overlap / d
     /// Angle from the leading end, compression: per segment (quadrature point).

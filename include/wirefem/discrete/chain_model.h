@@ -87,6 +87,14 @@ namespace wirefem::discrete
 
   private:
     void build_injected(const scene::Scene &scene);
+    /// Storage for every node the injection can hold, the initial wire and
+    /// the channels' nodes.
+    void allocate_injected_chain(const scene::Scene &scene);
+    /// Stretching, bending and damping; returns their omega^2 bound.
+    double add_material_terms(const scene::Scene &scene);
+    /// Wall, self contact (with the curvature limit) and channel walls; adds
+    /// their omega^2 bound.
+    void add_contact_terms(const scene::Scene &scene, double &omega2);
     void build_clamped(const scene::Scene &scene);
     void build_capstan(const scene::Scene &scene);
     /// One explicit step of the capstan loading.

@@ -380,6 +380,11 @@ namespace wirefem::discrete
     const contact::BroadPhase &broad_phase() const { return broad; }
 
   private:
+    /// The friction force on node k in contact with segment m (at its
+    /// parameter t, normal n, normal force fn), with the history, stored
+    /// energy and work it books; the segment takes the opposite force.
+    core::Vec2 friction_force(Chain &c, int k, int m, double t, core::Vec2 n, double fn, double dt,
+                              StepEnergy &e);
     static std::uint64_t key(int i, int j)
     {
       return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
