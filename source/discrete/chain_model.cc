@@ -13,6 +13,19 @@ namespace wirefem::discrete
   using core::Vec2;
   using injection::Side;
 
+  namespace
+  {
+    /// The contact law with the coefficients of one kind of contact;
+    /// friction is built when mu_st > 0 (or neutral effects are kept).
+    ContactLaw with_friction(ContactLaw law, const double mu_static, const double mu_dynamic, const bool keep)
+    {
+      law.coefficients.mu_static = mu_static;
+      law.coefficients.mu_dynamic = mu_dynamic;
+      law.friction = keep || mu_static > 0.0;
+      return law;
+    }
+  } // namespace
+
   ChainModel::ChainModel(const scene::Scene &scene)
     : radius(scene.cavity.radius)
     , diameter(1.0)
@@ -147,10 +160,8 @@ namespace wirefem::discrete
     bool any_friction = false;
     if (con.wall_contact)
       {
-        ContactLaw wall = law;
-        wall.coefficients.mu_static = fr.wall_static_coefficient;
-        wall.coefficients.mu_dynamic = fr.wall_dynamic_coefficient;
-        wall.friction = keep || fr.wall_static_coefficient > 0.0;
+        const ContactLaw wall =
+            with_friction(law, fr.wall_static_coefficient, fr.wall_dynamic_coefficient, keep);
         any_friction |= wall.friction;
         auto w = std::make_unique<WallContactTerm>(radius, wall, nodes.capacity());
         if (channels.is_tangential())
@@ -160,10 +171,7 @@ namespace wirefem::discrete
       }
     if (con.self_contact)
       {
-        ContactLaw self = law;
-        self.coefficients.mu_static = fr.static_coefficient;
-        self.coefficients.mu_dynamic = fr.dynamic_coefficient;
-        self.friction = keep || fr.static_coefficient > 0.0;
+        const ContactLaw self = with_friction(law, fr.static_coefficient, fr.dynamic_coefficient, keep);
         any_friction |= self.friction;
         const int exclusion = std::max(1, static_cast<int>(std::ceil(con.exclusion_length / lambda0 - 1e-9)));
         auto s = std::make_unique<SelfContactTerm>(self, con.skin, exclusion, nodes.capacity());
@@ -421,12 +429,7 @@ namespace wirefem::discrete
     w.injected_length = injected_length();
     const int k0 = nodes.first + 1, k1 = nodes.last - 2; // the nodes at the inlets
     const int n = k1 - k0 + 1;
-    w.points.resize(n);
-    w.arc_length.resize(n);
-    w.curvature.assign(n, 0.0);
-    w.plastic_curvature.assign(n, 0.0);
-    w.bending_energy.assign(n, 0.0);
-    w.contact_force.resize(n);
+    w.resize(n);
     for (int k = k0; k <= k1; ++k)
       {
         const int p = k - k0;

@@ -161,12 +161,7 @@ namespace wirefem::fem
     int k0, k1;
     m.inside_range(m.t, k0, k1);
     const int n = k1 - k0 + 2;
-    w.points.resize(n);
-    w.arc_length.resize(n);
-    w.curvature.assign(n, 0.0);
-    w.plastic_curvature.assign(n, 0.0);
-    w.bending_energy.assign(n, 0.0);
-    w.contact_force.assign(n, 0.0);
+    w.resize(n);
     w.points[0] = m.channels.inlet(Side::left);
     w.points[n - 1] = m.channels.inlet(Side::right);
     w.arc_length[n - 1] = injected_length();

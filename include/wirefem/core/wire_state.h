@@ -45,5 +45,16 @@ namespace wirefem::core
     std::vector<double> contact_force;     ///< sum of contact normal forces at the point
     std::vector<SelfContact> self_contacts;
     double max_wall_force = 0.0; ///< largest wall contact force
+
+    /// n points, with every per-point field zero.
+    void resize(const std::size_t n)
+    {
+      points.assign(n, core::Vec2{});
+      arc_length.assign(n, 0.0);
+      curvature.assign(n, 0.0);
+      plastic_curvature.assign(n, 0.0);
+      bending_energy.assign(n, 0.0);
+      contact_force.assign(n, 0.0);
+    }
   };
 } // namespace wirefem::core
