@@ -159,9 +159,8 @@ namespace wirefem::fem
     section.GA = s.fem.formulation == scene::Formulation::kirchhoff
                      ? s.fem.kirchhoff_penalty * w.axial_stiffness
                      : s.fem.shear_stiffness;
-    // The dashpots of the discrete model in the continuum limit.
-    section.axial_viscosity = s.discrete.axial_damping * s.discrete.segment_length;
-    section.bending_viscosity = s.discrete.rotational_damping * s.discrete.segment_length;
+    section.axial_viscosity = s.fem.axial_viscosity;
+    section.bending_viscosity = s.fem.bending_viscosity;
     if (clamped || capstan)
       section.axial_viscosity = section.bending_viscosity = 0.0;
     viscous = section.axial_viscosity > 0 || section.bending_viscosity > 0;

@@ -58,10 +58,7 @@ namespace wirefem::scene
     d.declare("FEM/Degree", "1", Patterns::Integer(1, 3),
               "Polynomial degree p of x, y and theta on each element (1, 2 or 3). The stiffness is "
               "integrated with p Gauss points (reduced), which keeps thin rods free of locking.");
-    d.declare("FEM/Element length", "1", any_double,
-              "Rest length h (d) of an element. The dashpots of the discrete model carry over as "
-              "eta_a = Discrete/Axial damping * lambda_0 and eta_b = Discrete/Rotational damping * "
-              "lambda_0 (its continuum limit, like EA = k1 lambda_0).");
+    d.declare("FEM/Element length", "1", any_double, "Rest length h (d) of an element.");
     d.declare("FEM/Shear stiffness", "-1", any_double,
               "GA (force) of the Reissner rod. Negative: 0.9 EA/(2 (1 + 0.3)), a round wire with "
               "Poisson ratio 0.3 and shear coefficient 0.9.");
@@ -92,9 +89,16 @@ namespace wirefem::scene
               "sticking, mu_d F_n while sliding), with a sharp slip onset; Set-up = capstan only.");
     d.declare("FEM/Maximum iterations", "15", Patterns::Integer(2, 200),
               "Newton iterations before the step is cut.");
+    d.declare("FEM/Axial viscosity", "-1", any_double,
+              "eta_a (force time): axial dashpot, N_v = eta_a d(eps)/dt. Negative: the discrete model's "
+              "axial dashpot in its continuum limit, Discrete/Axial damping * Discrete/Segment length.");
+    d.declare("FEM/Bending viscosity", "-1", any_double,
+              "eta_b (force d^2 time): bending dashpot, M_v = eta_b d(kappa)/dt. Negative: "
+              "Discrete/Rotational damping * Discrete/Segment length.");
   }
 
-  void FemParameters::parse(const Declarations &d, const double axial_stiffness)
+  void FemParameters::parse(const Declarations &d, const double axial_stiffness,
+                            const DiscreteParameters &discrete)
   {
     formulation = d.get("FEM/Formulation") == "kirchhoff" ? Formulation::kirchhoff : Formulation::reissner;
     degree = static_cast<unsigned int>(std::stoul(d.get("FEM/Degree")));
@@ -113,6 +117,12 @@ namespace wirefem::scene
     newton_tolerance = d.get_double("FEM/Newton tolerance");
     maximum_iterations = static_cast<unsigned int>(std::stoul(d.get("FEM/Maximum iterations")));
     spring_friction = d.get("FEM/Friction law") == "spring";
+    axial_viscosity = d.get_double("FEM/Axial viscosity");
+    if (axial_viscosity < 0)
+      axial_viscosity = discrete.axial_damping * discrete.segment_length;
+    bending_viscosity = d.get_double("FEM/Bending viscosity");
+    if (bending_viscosity < 0)
+      bending_viscosity = discrete.rotational_damping * discrete.segment_length;
   }
 
   void FemParameters::validate(const std::string &w) const

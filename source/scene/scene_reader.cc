@@ -51,7 +51,7 @@ namespace wirefem::scene
       s.contact.parse(d);
       s.injection.parse(d, where);
       s.discrete.parse(d);
-      s.fem.parse(d, s.wire.axial_stiffness);
+      s.fem.parse(d, s.wire.axial_stiffness, s.discrete);
       s.output.parse(d);
       s.keep_neutral_effects = d.get_bool("Debug/Keep neutral effects");
       return s;

@@ -244,10 +244,18 @@ namespace wirefem::scene
     double newton_tolerance = 1e-8; ///< on the residual norm relative to the force scale
     unsigned int maximum_iterations = 15;
     bool spring_friction = false; ///< the discrete model's friction law (capstan only)
+    /// eta_a (force time): axial dashpot N_v = eta_a d(eps)/dt; from the
+    /// scene file, or the discrete model's dashpot in its continuum limit
+    /// (Discrete/Axial damping * lambda_0) when that is negative.
+    double axial_viscosity = -1.0;
+    /// eta_b (force d^2 time): bending dashpot M_v = eta_b d(kappa)/dt;
+    /// likewise from Discrete/Rotational damping * lambda_0 when negative.
+    double bending_viscosity = -1.0;
 
     static void declare(Declarations &d);
-    /// axial_stiffness: EA, of which the default shear stiffness is a fraction.
-    void parse(const Declarations &d, double axial_stiffness);
+    /// The defaults that come from other sections: the shear stiffness from
+    /// EA, the dashpots from the discrete model's.
+    void parse(const Declarations &d, double axial_stiffness, const DiscreteParameters &discrete);
     void validate(const std::string &where) const;
   };
 
