@@ -128,13 +128,6 @@ namespace wirefem::fem
     return impl->cuts;
   }
 
-  double RodModel::step_checking_tangent()
-  {
-    impl->check_tangent = true;
-    impl->tangent_error = -1.0;
-    step();
-    return impl->tangent_error;
-  }
   unsigned int RodModel::n_dofs() const
   {
     return impl->dof_handler.n_dofs();

@@ -31,6 +31,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <functional>
 #include <cstdlib>
 #include <iostream>
 #include <cmath>
@@ -264,8 +265,8 @@ namespace wirefem::fem
     /// Follower forces and end moments at the time of the step (wall_time).
     void assemble_capstan_loads(const AssemblyRequest &rq, Evaluation &e);
     /// The push force at the trailing end and, for the roller, its rotated
-    /// radial dof (residual and, with the tangent, K); tangent_error_at
-    /// compares the tangent before this.
+    /// radial dof (residual and, with the tangent, K); the tests compare
+    /// the tangent before this (rq.constrain false).
     void constrain_trailing_end(const AssemblyRequest &rq, Evaluation &e);
     /// Newton's correction of the roller's radial dof back to (x, y).
     void expand_trailing_end(dealii::Vector<double> &dx) const;
@@ -359,9 +360,10 @@ namespace wirefem::fem
     void predict(double step, int first, int last, StepState &x) const;
     /// max |K - K_fd| / max |K| at x.u1, K assembled there and K_fd the
     /// central differences of the assembled residual (tests).
-    double tangent_error_at(const AssemblyRequest &rq, StepState &x);
-    bool check_tangent = false;  ///< compare the tangent with finite differences at the next predictor
-    double tangent_error = -1.0; ///< max |K - K_fd| / max |K| found there
+    /// Called (when set) with the first assembly of each implicit step, at
+    /// the predictor: the tests compare the tangent K there with finite
+    /// differences of the residual (tests/rod_probe.h).
+    std::function<void(const AssemblyRequest &, StepState &)> predictor_probe;
     void explicit_step(double step);
     bool explicit_mode = false;
     std::vector<double> lumped_element; // row sums of element_mass

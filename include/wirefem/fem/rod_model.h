@@ -64,15 +64,12 @@ namespace wirefem::fem
     /// Residual norms (max norm over the free dofs) of the Newton iterations
     /// of the last accepted step, the first at the predictor.
     const std::vector<double> &newton_history() const;
-    /// One step that first compares the assembled tangent at the predictor
-    /// with central differences of the assembled residual (every free dof);
-    /// returns max |K - K_fd| / max |K| (tests).
-    double step_checking_tangent();
     /// Newton failures (step cuts) so far.
     unsigned long n_step_cuts() const;
     unsigned int n_dofs() const;
 
   private:
+    friend struct RodModelProbe; // the tests' access to the assembly (tests/rod_probe.h)
     struct Impl;
     std::unique_ptr<Impl> impl;
   };

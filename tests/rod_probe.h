@@ -1,0 +1,66 @@
+// The tests' access to the rod FEM's assembly: the assembled tangent K at
+// a step's predictor against central differences of the assembled residual.
+// Not part of the library: it reaches into RodModel::Impl (a friend).
+#pragma once
+
+#include "../source/fem/rod_model_impl.h"
+
+namespace wirefem::fem
+{
+  struct RodModelProbe
+  {
+    /// max |K - K_fd| / max |K| over the free dofs at x.u1, K assembled
+    /// there (before the capstan roller's dof is rotated) and K_fd the
+    /// central differences of the assembled residual, column by column.
+    static double tangent_error(RodModel::Impl &m, const AssemblyRequest &rq, StepState &x)
+    {
+      // Central differences of the assembled residual, column by column,
+      // against the tangent K assembled at x.u1 (before the capstan roller's
+      // dof is rotated).
+      const int lo = 3 * rq.first, nw = 3 * (rq.last - rq.first);
+      Evaluation trial;
+      AssemblyRequest raw = rq;
+      raw.constrain = false;
+      m.evaluate(raw, trial);
+      double worst = 0, largest = 0;
+      const double eps = 1e-7;
+      for (int j = 0; j < nw; ++j)
+        {
+          const double keep = x.u1[lo + j];
+          dealii::Vector<double> rp(nw);
+          for (const double sign : {1.0, -1.0})
+            {
+              x.u1[lo + j] = keep + sign * eps;
+              x.update();
+              m.evaluate(raw.without_tangent(), trial);
+              for (int i = 0; i < nw; ++i)
+                rp[i] += sign * trial.residual[lo + i] / (2 * eps);
+            }
+          x.u1[lo + j] = keep;
+          for (int i = 0; i < nw; ++i)
+            {
+              const double kij = m.K.el(i, j);
+              worst = std::max(worst, std::abs(kij - rp[i]));
+              largest = std::max(largest, std::abs(kij));
+            }
+        }
+      x.update();
+      return worst / largest;
+    }
+
+    /// One step of the model that first checks the tangent at its
+    /// predictor; returns the error (-1 if the step assembled nothing).
+    static double step_checking_tangent(RodModel &rod)
+    {
+      double error = -1.0;
+      auto &m = *rod.impl;
+      m.predictor_probe = [&](const AssemblyRequest &rq, StepState &x) {
+        m.predictor_probe = nullptr;
+        error = tangent_error(m, rq, x);
+      };
+      rod.step();
+      m.predictor_probe = nullptr;
+      return error;
+    }
+  };
+} // namespace wirefem::fem
