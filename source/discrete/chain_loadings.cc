@@ -266,24 +266,17 @@ namespace wirefem::discrete
       }
   }
 
-  double ChainModel::capstan_push(const double time) const
-  {
-    const double ramp = time < capstan.ramp_time ? time / capstan.ramp_time : 1.0;
-    return capstan.end_force * (ramp + capstan.force_rate * std::max(0.0, time - capstan.ramp_time));
-  }
-
   void ChainModel::capstan_step()
   {
     auto &c = nodes;
     const int n = c.last - 1;
     // The end loads rise over the ramp time (with the speed), so no axial
     // wave is started; under force control the push then keeps rising.
-    const double ramp = t < capstan.ramp_time ? t / capstan.ramp_time : 1.0;
-    cap.lead->set_thrust(capstan.end_force * ramp);
+    cap.lead->set_thrust(capstan.end_force_at(t));
     if (capstan.velocity_control)
       place_pushed_nodes();
     else
-      cap.push->set_thrust(capstan_push(t));
+      cap.push->set_thrust(capstan.push_force_at(t));
     std::fill(c.f.begin(), c.f.end(), Vec2{});
     std::fill(c.contact_force.begin(), c.contact_force.end(), 0.0);
     step_energy = StepEnergy{};
@@ -327,7 +320,7 @@ namespace wirefem::discrete
     core::CapstanState s;
     s.wrap_angle = cap.frictional * cap.zeta;
     s.pushed = velocity ? capstan.pushed(t) : 0.0;
-    s.push_force = velocity ? compression(1) : capstan_push(t);
+    s.push_force = velocity ? compression(1) : capstan.push_force_at(t);
     s.trailing_compression = compression(velocity ? 1 : 0); // where the wire leaves the pushed end
     s.lead_slide = cap.Rc * (std::atan2(cap.x0[n].y, cap.x0[n].x) - std::atan2(c.x[n].y, c.x[n].x));
     s.max_penetration = step_energy.max_penetration;

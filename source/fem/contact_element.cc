@@ -49,6 +49,11 @@ namespace wirefem::fem
     }
   } // namespace
 
+  double sliding_coefficient(const ContactSettings &s, const double v)
+  {
+    return -friction_force<double>(s, 1.0, v);
+  }
+
   namespace
   {
     /// The wall's outward normal n at x and the overlap g, with their

@@ -48,20 +48,6 @@ namespace wirefem::fem
     cap.history.assign(n_nodes, contact::FrictionHistory{});
   }
 
-  double RodModel::Impl::capstan_thrust(const double time) const
-  {
-    // The end loads rise over the ramp time (with the speed).
-    const auto &cs = scene.capstan;
-    return cs.end_force * (cs.ramp_time > 0.0 ? std::min(1.0, time / cs.ramp_time) : 1.0);
-  }
-
-  double RodModel::Impl::capstan_push(const double time) const
-  {
-    // Force control: after the ramp the push keeps rising at Force rate.
-    const auto &cs = scene.capstan;
-    return capstan_thrust(time) + cs.end_force * cs.force_rate * std::max(0.0, time - cs.ramp_time);
-  }
-
   void RodModel::Impl::assemble_capstan_loads(const AssemblyRequest &rq, Evaluation &e)
   {
     const auto &u1 = *rq.u;
@@ -80,12 +66,12 @@ namespace wirefem::fem
     // Leading end: the compressive follower force and the clockwise moment
     // that holds the wall's curvature.
     const unsigned int lead = n_nodes - 1;
-    follower(lead, capstan_thrust(wall_time));
+    follower(lead, scene.capstan.end_force_at(wall_time));
     e.residual[3 * lead + 2] += cap.held;
     if (!cap.velocity)
       {
         // Trailing end: the push along its section and the moment.
-        const double push = capstan_push(wall_time);
+        const double push = scene.capstan.push_force_at(wall_time);
         follower(0, -push);
         e.residual[2] -= cap.held;
         e.push_force = push;

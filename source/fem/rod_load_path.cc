@@ -21,13 +21,8 @@ namespace wirefem::fem
         ok = false;
       }
     if (std::getenv("WIREFEM_NEWTON_LOG"))
-      {
-        std::string h;
-        for (const double r : history)
-          h += fmt::format(" {:.2e}", r);
-        std::cerr << fmt::format("load factor {:.6g}: {}; residuals{}\n", factor, ok ? "converged" : "failed",
-                                 h);
-      }
+      std::cerr << fmt::format("load factor {:.6g}: {}; residuals{}\n", factor, ok ? "converged" : "failed",
+                               residual_history());
     path.residual = history.empty() ? INFINITY : history.back() / force_scale;
     if (ok)
       {

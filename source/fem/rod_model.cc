@@ -58,12 +58,8 @@ namespace wirefem::fem
           break;
         ++m.cuts;
         if (std::getenv("WIREFEM_NEWTON_LOG"))
-          {
-            std::string h;
-            for (const double r : m.history)
-              h += fmt::format(" {:.2e}", r);
-            std::cerr << fmt::format("t = {:.5g}: step {:.3g} cut; residuals{}\n", m.t, step, h);
-          }
+          std::cerr << fmt::format("t = {:.5g}: step {:.3g} cut; residuals{}\n", m.t, step,
+                                   m.residual_history());
         step *= 0.5;
         if (step < m.scene.fem.minimum_time_step)
           throw std::runtime_error(fmt::format("Newton did not converge at t = {:.6g} even with the time "
@@ -73,12 +69,8 @@ namespace wirefem::fem
                                                m.history.empty() ? NAN : m.history.back()));
       }
     if (const char *log = std::getenv("WIREFEM_NEWTON_LOG"); log && std::string(log) == "all")
-      {
-        std::string h;
-        for (const double r : m.history)
-          h += fmt::format(" {:.2e}", r);
-        std::cerr << fmt::format("t = {:.5g}: step {:.3g} converged; residuals{}\n", m.t, step, h);
-      }
+      std::cerr << fmt::format("t = {:.5g}: step {:.3g} converged; residuals{}\n", m.t, step,
+                               m.residual_history());
     // Grow the step again when Newton had an easy time.
     m.dt = m.history.size() <= 4 ? std::min(m.dt_max, 1.5 * step) : step;
   }
@@ -241,15 +233,10 @@ namespace wirefem::fem
     const auto &m = *impl;
     if (m.capstan)
       {
-        // The coefficient steady sliding mobilises at the push speed:
-        // mu(V) tanh(V / v_th) of the regularised law, mu_d of the spring law.
-        const auto &fr = m.scene.contact.friction;
-        const double x = m.scene.capstan.speed / std::max(fr.threshold_velocity, 1e-9);
-        const double sliding =
-            m.cap.spring ? fr.wall_dynamic_coefficient
-                         : (fr.wall_dynamic_coefficient +
-                            (fr.wall_static_coefficient - fr.wall_dynamic_coefficient) * std::exp(-x)) *
-                               std::tanh(x);
+        // The coefficient steady sliding mobilises at the push speed (mu_d
+        // under the spring law).
+        const double sliding = m.cap.spring ? m.wall_settings.mu_dynamic
+                                            : sliding_coefficient(m.wall_settings, m.scene.capstan.speed);
         return {{"elements", m.n_cells},
                 {"degree", m.p},
                 {"element_length", m.h},

@@ -273,8 +273,6 @@ namespace wirefem::fem
     /// The capstan's predictor: the whole rod slid with the trailing end
     /// (velocity control), or the state itself (force control).
     void predict_capstan(double step, StepState &x) const;
-    double capstan_thrust(double time) const;
-    double capstan_push(double time) const;
     core::CapstanState capstan_state() const;
 
     /// After a converged but unstable increment from `start`: the state
@@ -348,6 +346,15 @@ namespace wirefem::fem
     /// returns true when it converges.
     bool solve_step(double step);
     double free_residual_norm(const Evaluation &ev, int first, int last) const;
+    /// The residual norms of the last step's Newton iterations, for the
+    /// WIREFEM_NEWTON_LOG lines.
+    std::string residual_history() const
+    {
+      std::string h;
+      for (const double r : history)
+        h += fmt::format(" {:.2e}", r);
+      return h;
+    }
     /// The broad phase's candidate pairs for the free range.
     void update_contact_candidates(int first, int last);
     /// Moves x.u1 by the Newton correction dx (with backtracking when

@@ -101,7 +101,6 @@ namespace wirefem::discrete
     void capstan_step();
     /// Velocity control: nodes 0 and 1 where the push has taken them at t.
     void place_pushed_nodes();
-    double capstan_push(double time) const;
     /// The clamp loading's forces at the current load factor; returns the
     /// largest free nodal force.
     double clamped_forces();

@@ -56,6 +56,10 @@ namespace wirefem::fem
     double energy = 0.0; ///< 1/2 k w g^2
   };
 
+  /// The friction coefficient the regularised law mobilises when sliding at
+  /// speed v: mu(v) tanh(v / v_th), from the law the contacts use.
+  double sliding_coefficient(const ContactSettings &s, double v);
+
   /// Wall of the cavity: a circle of radius r, open over |y| < d/2 at x = +-r
   /// (the radial channels), where the corners of the openings are the
   /// contact; a closed circle when s.mouths is false.

@@ -8,6 +8,7 @@
 
 #include <wirefem/material/moment_curvature_law.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -115,6 +116,15 @@ namespace wirefem::scene
     double pushed(const double t) const
     {
       return t < ramp_time ? 0.5 * speed * t * t / ramp_time : speed * (t - 0.5 * ramp_time);
+    }
+    /// The end force T0 at time t: it rises linearly over the ramp time.
+    double end_force_at(const double t) const { return end_force * (t < ramp_time ? t / ramp_time : 1.0); }
+    /// Force control: the push at time t, rising with the end force over the
+    /// ramp and then at Force rate.
+    double push_force_at(const double t) const
+    {
+      const double ramp = t < ramp_time ? t / ramp_time : 1.0;
+      return end_force * (ramp + force_rate * std::max(0.0, t - ramp_time));
     }
     /// Velocity control: the time by which Slide has been pushed.
     double slide_time() const
