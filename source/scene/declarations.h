@@ -1,16 +1,23 @@
-// The scene reader's table of keys (internal to the scene module): each
-// parameter struct declares its keys into it and parses them from it
-// (scene/*_parameters.cc), and the reader sets values from the scene file
-// and the command line, checking each against its key's pattern.
+// The scene reader's table of keys (internal to the scene module). Every key
+// is written once, in its section's key table (scene/keys/*.json:
+// default, documentation, the member it fills, the range of its value), from
+// which the build generates declare_sections(); the checks a range cannot
+// express stand beside the table (scene/section_checks.cc). The reader sets
+// values from the scene file and the command line, checking each against its
+// key's pattern, then reads them all into the bound members and checks their
+// ranges.
 #pragma once
 
 #include <wirefem/scene/parameters.h>
 #include <wirefem/scene/scene_reader.h>
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/utilities.h>
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -41,6 +48,17 @@ namespace wirefem::scene
     return parts;
   }
 
+  /// Where a number must lie; checked by Declarations::check_ranges with the
+  /// message the enumerator's comment gives.
+  enum class Range
+  {
+    any,
+    positive,     ///< "must be positive"
+    non_negative, ///< "must not be negative"
+    unit,         ///< "must be in [0, 1]"
+    open_unit     ///< "must be in (0, 1)"
+  };
+
   // ParameterHandler only Asserts (debug builds) on undeclared keys, so the
   // reader keeps its own table of declared keys and their patterns: every
   // value is checked here before it reaches the handler.
@@ -52,8 +70,14 @@ namespace wirefem::scene
     {
     }
 
+    /// Reads a key's value (as set, or its default) into the member it is
+    /// bound to; `where` names the scene file for errors.
+    using Reader = std::function<void(const std::string &value, const std::string &where)>;
+
+    /// Declares `path` with its default, pattern and documentation; `read`
+    /// fills the bound member from the value.
     void declare(const std::string &path, const std::string &default_value,
-                 const Patterns::PatternBase &pattern, const std::string &doc)
+                 const Patterns::PatternBase &pattern, const std::string &doc, Reader read)
     {
       auto parts = split_path(path);
       const std::string name = parts.back();
@@ -64,6 +88,114 @@ namespace wirefem::scene
       for (std::size_t i = 0; i < parts.size(); ++i)
         prm.leave_subsection();
       table[canonical(path)] = {path, pattern.clone()};
+      order.push_back({path, std::move(read), nullptr, Range::any});
+    }
+
+    /// A real number bound to `target`, which must lie in `range`.
+    void number(const std::string &path, const std::string &default_value, const std::string &doc,
+                double &target, const Range range = Range::any)
+    {
+      declare(path, default_value, Patterns::Double(), doc,
+              [&target](const std::string &v, const std::string &) { target = std::stod(v); });
+      order.back().value = &target;
+      order.back().range = range;
+    }
+
+    /// A whole number in [lo, hi] bound to `target`.
+    template <typename Int>
+    void whole(const std::string &path, const std::string &default_value, const int lo, const int hi,
+               const std::string &doc, Int &target)
+    {
+      declare(
+          path, default_value, Patterns::Integer(lo, hi), doc,
+          [&target](const std::string &v, const std::string &) { target = static_cast<Int>(std::stol(v)); });
+    }
+
+    /// true/false (also yes/no, 1/0) bound to `target`.
+    void flag(const std::string &path, const std::string &default_value, const std::string &doc, bool &target)
+    {
+      declare(path, default_value, Patterns::Bool(), doc,
+              [&target](const std::string &v, const std::string &) {
+                target = v == "true" || v == "yes" || v == "1";
+              });
+    }
+
+    /// One of the named options, each standing for a value of `target`.
+    template <typename T>
+    void choice(const std::string &path, const std::string &default_value,
+                const std::vector<std::pair<std::string, T>> &options, const std::string &doc, T &target)
+    {
+      std::string names;
+      for (const auto &o : options)
+        names += (names.empty() ? "" : "|") + o.first;
+      declare(path, default_value, Patterns::Selection(names), doc,
+              [&target, options](const std::string &v, const std::string &) {
+                for (const auto &o : options)
+                  if (o.first == v)
+                    target = o.second;
+              });
+    }
+
+    /// Comma-separated numbers, at least one.
+    void numbers(const std::string &path, const std::string &default_value, const std::string &doc,
+                 std::vector<double> &target)
+    {
+      declare(path, default_value, Patterns::List(Patterns::Double(), 1), doc,
+              [&target](const std::string &v, const std::string &) {
+                target.clear();
+                for (const auto &item : dealii::Utilities::split_string_list(v))
+                  target.push_back(std::stod(item));
+              });
+    }
+
+    /// A number, or 'inf' for no limit.
+    void number_or_inf(const std::string &path, const std::string &default_value, const std::string &doc,
+                       double &target)
+    {
+      declare(path, default_value, Patterns::Anything(), doc,
+              [&target, path](const std::string &v, const std::string &where) {
+                try
+                  {
+                    target = v == "inf" ? INFINITY : std::stod(v);
+                  }
+                catch (const std::exception &)
+                  {
+                    throw InputError(where + ": " + path + ": '" + v + "' is not a number or 'inf'");
+                  }
+              });
+    }
+
+    /// Text matching `pattern`, kept as given.
+    void text(const std::string &path, const std::string &default_value, const Patterns::PatternBase &pattern,
+              const std::string &doc, std::string &target)
+    {
+      declare(path, default_value, pattern, doc,
+              [&target](const std::string &v, const std::string &) { target = v; });
+    }
+
+    /// Fills every bound member from the values set, in declaration order.
+    void read_all(const std::string &where) const
+    {
+      for (const auto &entry : order)
+        entry.read(get(entry.path), where);
+    }
+
+    /// Throws InputError "where: key: why" for the first number under
+    /// `prefix` (a section, "Wire/") outside its range.
+    void check_ranges(const std::string &prefix, const std::string &where) const
+    {
+      for (const auto &entry : order)
+        {
+          if (entry.path.rfind(prefix, 0) != 0 || entry.range == Range::any)
+            continue;
+          const double x = *entry.value;
+          const bool ok = entry.range == Range::positive       ? x > 0
+                          : entry.range == Range::non_negative ? x >= 0
+                          : entry.range == Range::unit         ? x >= 0 && x <= 1
+                                                               : x > 0 && x < 1;
+          if (!ok)
+            throw InputError(where + ": " + entry.path + ": " + range_text(entry.range));
+        }
     }
 
     /// Sets `key` to `value`; `where` names the file (and line) for errors.
@@ -97,13 +229,6 @@ namespace wirefem::scene
       for (std::size_t i = 0; i < parts.size(); ++i)
         prm.leave_subsection();
       return value;
-    }
-
-    double get_double(const std::string &path) const { return std::stod(get(path)); }
-    bool get_bool(const std::string &path) const
-    {
-      const std::string v = get(path);
-      return v == "true" || v == "yes" || v == "1";
     }
 
     /// Every entry outside Output as "Section/Key = value" lines, sorted
@@ -148,14 +273,44 @@ namespace wirefem::scene
       return out;
     }
 
+    static const char *range_text(const Range range)
+    {
+      switch (range)
+        {
+        case Range::positive:
+          return "must be positive";
+        case Range::non_negative:
+          return "must not be negative";
+        case Range::unit:
+          return "must be in [0, 1]";
+        case Range::open_unit:
+          return "must be in (0, 1)";
+        default:
+          return "";
+        }
+    }
+
     struct Entry
     {
       std::string path;
       std::unique_ptr<Patterns::PatternBase> pattern;
     };
+    /// A declared key in declaration order, with the member it fills.
+    struct Binding
+    {
+      std::string path;
+      Reader read;
+      const double *value; ///< numbers only: checked against range
+      Range range;
+    };
     ParameterHandler &prm;
     std::map<std::string, Entry> table;
+    std::vector<Binding> order;
   };
+
+  /// Declares the keys of every section, bound to the members of `s`
+  /// (generated from scene/keys/*.json).
+  void declare_sections(Declarations &d, Scene &s);
 
   /// Throws InputError "where: key: why" unless ok.
   inline void check(const bool ok, const std::string &where, const std::string &key, const std::string &why)

@@ -10,51 +10,28 @@ namespace wirefem::scene
 {
   namespace
   {
-    /// Every key of a scene, in the order --print-parameters lists them:
-    /// the top-level choices, then one section after another.
-    void declare_all(Declarations &d)
+    /// Every key of a scene, bound to its member of `s`, in the order
+    /// --print-parameters lists them: the top-level choices, then one
+    /// section after another.
+    void declare_all(Declarations &d, Scene &s)
     {
-      d.declare("Model", "discrete", Patterns::Selection("discrete|fem"),
-                "Wire model: 'discrete' (the paper's spring chain) or 'fem' (geometrically exact rod).");
-      d.declare("Set-up", "injection", Patterns::Selection("injection|cantilever|capstan"),
-                "'injection': the wire pushed into the cavity (the paper). 'cantilever': a benchmark of "
-                "validation/, a straight rod clamped at the origin and loaded at its free end "
-                "(Cantilever subsection). 'capstan': a benchmark of validation/, a wire on the cavity "
-                "wall pushed along it against an end force (Capstan subsection; the FEM under velocity "
-                "control only).");
-      CapstanParameters::declare(d);
-      CantileverParameters::declare(d);
-      CavityParameters::declare(d);
-      WireParameters::declare(d);
-      ContactParameters::declare(d);
-      InjectionParameters::declare(d);
-      DiscreteParameters::declare(d);
-      FemParameters::declare(d);
-      OutputParameters::declare(d);
-      d.declare("Debug/Keep neutral effects", "false", Patterns::Bool(),
-                "Build friction and plasticity even when their parameters are neutral "
-                "(mu = 0, kappa_theta*lambda_0 >= pi); for checking that they change nothing.");
-    }
-
-    Scene parse_all(const Declarations &d, const std::string &where)
-    {
-      Scene s;
-      s.model = d.get("Model") == "fem" ? ModelType::fem : ModelType::discrete;
-      const std::string setup = d.get("Set-up");
-      s.setup = setup == "cantilever" ? Setup::cantilever
-                : setup == "capstan"  ? Setup::capstan
-                                      : Setup::injection;
-      s.capstan.parse(d);
-      s.cantilever.parse(d);
-      s.cavity.parse(d);
-      s.wire.parse(d);
-      s.contact.parse(d);
-      s.injection.parse(d, where);
-      s.discrete.parse(d);
-      s.fem.parse(d, s.wire.axial_stiffness, s.discrete);
-      s.output.parse(d);
-      s.keep_neutral_effects = d.get_bool("Debug/Keep neutral effects");
-      return s;
+      d.choice<ModelType>(
+          "Model", "discrete", {{"discrete", ModelType::discrete}, {"fem", ModelType::fem}},
+          "Wire model: 'discrete' (the paper's spring chain) or 'fem' (geometrically exact rod).", s.model);
+      d.choice<Setup>(
+          "Set-up", "injection",
+          {{"injection", Setup::injection}, {"cantilever", Setup::cantilever}, {"capstan", Setup::capstan}},
+          "'injection': the wire pushed into the cavity (the paper). 'cantilever': a benchmark of "
+          "validation/, a straight rod clamped at the origin and loaded at its free end "
+          "(Cantilever subsection). 'capstan': a benchmark of validation/, a wire on the cavity "
+          "wall pushed along it against an end force (Capstan subsection; the FEM under velocity "
+          "control only).",
+          s.setup);
+      declare_sections(d, s);
+      d.flag("Debug/Keep neutral effects", "false",
+             "Build friction and plasticity even when their parameters are neutral "
+             "(mu = 0, kappa_theta*lambda_0 >= pi); for checking that they change nothing.",
+             s.keep_neutral_effects);
     }
 
     /// The discretisation must fit the set-up: whole segments or elements
@@ -114,21 +91,29 @@ namespace wirefem::scene
 
     // Values that each pass their pattern but make no physical sense, alone
     // or together. The order is the order in which a user meets the keys.
-    void validate(const Scene &s, const std::string &w)
+    void validate(const Scene &s, const Declarations &d, const std::string &w)
     {
       s.cavity.validate(w);
-      s.wire.validate(w);
+      d.check_ranges("Wire/", w);
+      d.check_ranges("Contact/", w);
       s.contact.validate(w);
+      d.check_ranges("Injection/", w);
       s.injection.validate(w, s.cavity.radius);
       if (s.setup == Setup::cantilever)
-        s.cantilever.validate(w);
+        {
+          d.check_ranges("Cantilever/", w);
+          s.cantilever.validate(w);
+        }
       validate_combinations(s, w);
       if (s.setup == Setup::capstan)
-        s.capstan.validate(w);
+        {
+          d.check_ranges("Capstan/", w);
+          s.capstan.validate(w);
+        }
       validate_discretisation(s, w);
-      s.discrete.validate(w);
-      s.fem.validate(w);
-      s.output.validate(w);
+      d.check_ranges("Discrete/", w);
+      d.check_ranges("FEM/", w);
+      d.check_ranges("Output/", w);
     }
 
     // A line-by-line reader of the prm format (subsection/end/set, '#'
@@ -192,7 +177,8 @@ namespace wirefem::scene
   {
     ParameterHandler prm;
     Declarations d(prm);
-    declare_all(d);
+    Scene s;
+    declare_all(d, s);
     if (!prm_file.empty())
       read_prm_file(d, prm_file);
     const std::string file_label = prm_file.empty() ? std::string("(no scene file)") : prm_file;
@@ -203,11 +189,13 @@ namespace wirefem::scene
           throw InputError(file_label + " (--set): '" + o + "': expected \"Section/Key=value\"");
         d.set(file_label + " (--set)", trim(o.substr(0, eq)), trim(o.substr(eq + 1)));
       }
-    Scene s = parse_all(d, file_label);
+    d.read_all(file_label);
+    s.contact.resolve();
+    s.fem.resolve(s.wire.axial_stiffness, s.discrete);
     s.fingerprint = d.fingerprint();
     s.prm_file = prm_file;
     s.name = prm_file.empty() ? "default" : std::filesystem::path(prm_file).stem().string();
-    validate(s, file_label);
+    validate(s, d, file_label);
     if (s.output.directory.empty())
       s.output.directory = "output/" + s.name;
     return s;
@@ -217,7 +205,8 @@ namespace wirefem::scene
   {
     ParameterHandler prm;
     Declarations d(prm);
-    declare_all(d);
+    Scene unused;
+    declare_all(d, unused);
     prm.print_parameters(out, ParameterHandler::PRM | ParameterHandler::KeepDeclarationOrder);
   }
 } // namespace wirefem::scene

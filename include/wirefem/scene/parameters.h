@@ -16,10 +16,11 @@
 
 namespace wirefem::scene
 {
-  /// The reader's table of keys (scene/declarations.h). Each section below
-  /// declares its keys into it, parses itself from it and validates itself
-  /// (scene/*_parameters.cc); scene_reader.cc checks the combinations.
-  class Declarations;
+  // Each section below has a key table (source/scene/keys/*.json:
+  // every key once, with its default, documentation, member and range);
+  // `validate` checks what a range cannot say, and `resolve` turns the
+  // negative "derive me" defaults into values (source/scene/section_checks.cc).
+  // scene_reader.cc checks the combinations.
 
   enum class ModelType
   {
@@ -66,8 +67,6 @@ namespace wirefem::scene
     double tolerance = 1e-10;    ///< largest nodal force / force scale at equilibrium
     double maximum_time = 1.0e6; ///< give up (exit 3) when not in equilibrium by then
 
-    static void declare(Declarations &d);
-    void parse(const Declarations &d);
     void validate(const std::string &where) const;
   };
 
@@ -133,8 +132,6 @@ namespace wirefem::scene
                                               : std::sqrt(2.0 * slide * ramp_time / speed);
     }
 
-    static void declare(Declarations &d);
-    void parse(const Declarations &d);
     void validate(const std::string &where) const;
   };
 
@@ -142,8 +139,6 @@ namespace wirefem::scene
   {
     double radius = 10.0; ///< r in units of d (f = r/d)
 
-    static void declare(Declarations &d);
-    void parse(const Declarations &d);
     void validate(const std::string &where) const;
   };
 
@@ -161,10 +156,6 @@ namespace wirefem::scene
     double bending_stiffness = 60.0; ///< EI (force d^2)
     double mass_per_length = 1.0;    ///< rho A (mass / d)
     PlasticityParameters plasticity;
-
-    static void declare(Declarations &d);
-    void parse(const Declarations &d);
-    void validate(const std::string &where) const;
   };
 
   struct FrictionParameters
@@ -187,8 +178,8 @@ namespace wirefem::scene
     double exclusion_length = 3.0;    ///< arc length (d) within which segments never touch
     FrictionParameters friction;
 
-    static void declare(Declarations &d);
-    void parse(const Declarations &d);
+    /// Negative friction coefficients become the ones they derive from.
+    void resolve();
     void validate(const std::string &where) const;
   };
 
@@ -207,9 +198,7 @@ namespace wirefem::scene
     double jamming_window = 1.0;          ///< injected length over which the force is averaged (d)
     double maximum_time = std::numeric_limits<double>::infinity(); ///< stop at this time
 
-    static void declare(Declarations &d);
-    void parse(const Declarations &d, const std::string &where);
-    /// radius: the cavity's, which bounds the packing densities.
+    /// radius: the initial wire sets the smallest packing density.
     void validate(const std::string &where, double radius) const;
   };
 
@@ -221,10 +210,6 @@ namespace wirefem::scene
     double translational_damping = 0.0; ///< gamma: damping force -gamma m v (1 / time)
     double rotational_damping = 0.5;    ///< c: damping moment -c dzeta/dt (force d time)
     double axial_damping = 3.0;         ///< c_a: dashpot tension c_a dlambda/dt (force time / d)
-
-    static void declare(Declarations &d);
-    void parse(const Declarations &d);
-    void validate(const std::string &where) const;
   };
 
   enum class Formulation
@@ -262,11 +247,9 @@ namespace wirefem::scene
     /// likewise from Discrete/Rotational damping * lambda_0 when negative.
     double bending_viscosity = -1.0;
 
-    static void declare(Declarations &d);
     /// The defaults that come from other sections: the shear stiffness from
     /// EA, the dashpots from the discrete model's.
-    void parse(const Declarations &d, double axial_stiffness, const DiscreteParameters &discrete);
-    void validate(const std::string &where) const;
+    void resolve(double axial_stiffness, const DiscreteParameters &discrete);
   };
 
   struct OutputParameters
@@ -277,10 +260,6 @@ namespace wirefem::scene
     int picture_size = 1000;            ///< pixels
     std::string progress = "auto";      ///< auto | on | off
     double checkpoint_interval = 300.0; ///< wall seconds between checkpoints; 0: only on interruption
-
-    static void declare(Declarations &d);
-    void parse(const Declarations &d);
-    void validate(const std::string &where) const;
   };
 
   struct Scene

@@ -1,0 +1,79 @@
+// What the sections' key tables (scene/keys/*.json) cannot express:
+// defaults derived from other keys (`resolve`) and checks that involve more
+// than one key's range (`validate`).
+#include "declarations.h"
+
+#include <cmath>
+
+namespace wirefem::scene
+{
+  void CavityParameters::validate(const std::string &w) const
+  {
+    check(radius > 1.0, w, "Cavity/Radius", "must be larger than 1 (the wire diameter)");
+  }
+
+  void ContactParameters::resolve()
+  {
+    // Negative coefficients stand for the defaults derived from the others.
+    auto &f = friction;
+    const double wall_static = f.wall_static_coefficient;
+    const double wall_dynamic = f.wall_dynamic_coefficient;
+    if (f.dynamic_coefficient < 0)
+      f.dynamic_coefficient = 0.8 * f.static_coefficient;
+    f.wall_static_coefficient = wall_static < 0 ? f.static_coefficient : wall_static;
+    if (wall_dynamic < 0)
+      f.wall_dynamic_coefficient = wall_static < 0 ? f.dynamic_coefficient : 0.8 * wall_static;
+  }
+
+  void ContactParameters::validate(const std::string &w) const
+  {
+    const auto &f = friction;
+    check(f.dynamic_coefficient <= f.static_coefficient, w, "Contact/Friction/Dynamic coefficient",
+          "mu_d = " + std::to_string(f.dynamic_coefficient) + " exceeds the static coefficient " +
+              std::to_string(f.static_coefficient));
+    check(f.wall_dynamic_coefficient <= f.wall_static_coefficient, w,
+          "Contact/Friction/Wall dynamic coefficient", "exceeds the wall static coefficient");
+  }
+
+  void InjectionParameters::validate(const std::string &w, const double radius) const
+  {
+    if (slow_start_length > 0)
+      {
+        check(slow_start_speed > 0, w, "Injection/Slow start speed", "must be positive");
+        check(slow_start_length >= 0.5 * slow_start_speed * ramp_time, w, "Injection/Slow start length",
+              "must be at least what the ramp injects, Slow start speed * Ramp time / 2");
+      }
+    // The initial wire: straight across (2 r), or the S between tangential
+    // inlets (pi (r - d/2)).
+    const double l0 = tangential_channels ? M_PI * (radius - 0.5) : 2.0 * radius;
+    const double phi0 = l0 / (M_PI * radius * radius);
+    check(maximum_packing_density > phi0, w, "Injection/Maximum packing density",
+          "must exceed the initial packing density " + std::to_string(phi0));
+    check(maximum_packing_density <= 1.0, w, "Injection/Maximum packing density", "must not exceed 1");
+    check(maximum_time > 0, w, "Injection/Maximum time", "must be positive");
+  }
+
+  void CapstanParameters::validate(const std::string &w) const
+  {
+    check(wrap_angle > 0 && wrap_angle <= 2.8, w, "Capstan/Wrap angle",
+          "must be in (0, 2.8] (the wire must stay clear of the channel openings)");
+    check(slide >= speed * ramp_time, w, "Capstan/Slide",
+          "must be at least Speed * Ramp time (the push force is averaged over the second half of the "
+          "sliding at full speed)");
+  }
+
+  void CantileverParameters::validate(const std::string &w) const
+  {
+    check(maximum_time > load_time, w, "Cantilever/Maximum time", "must exceed the load time");
+  }
+
+  void FemParameters::resolve(const double axial_stiffness, const DiscreteParameters &discrete)
+  {
+    if (shear_stiffness < 0)
+      shear_stiffness = 0.9 * axial_stiffness / 2.6;
+    if (axial_viscosity < 0)
+      axial_viscosity = discrete.axial_damping * discrete.segment_length;
+    if (bending_viscosity < 0)
+      bending_viscosity = discrete.rotational_damping * discrete.segment_length;
+  }
+} // namespace wirefem::scene
