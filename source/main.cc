@@ -36,6 +36,32 @@ namespace
       }
   }
 
+  /// Runs `body` under the exit-status contract: bad input (InputError,
+  /// ShapeError) 2, anything else 3, reported as "NAME: error: [CONTEXT: ]...".
+  template <typename Body>
+  int with_exit_status(const std::string &name, const std::string &context, Body &&body)
+  {
+    try
+      {
+        return body();
+      }
+    catch (const wirefem::scene::InputError &e)
+      {
+        std::cerr << name << ": error: " << e.what() << '\n';
+        return 2;
+      }
+    catch (const wirefem::analysis::ShapeError &e)
+      {
+        std::cerr << name << ": error: " << e.what() << '\n';
+        return 2;
+      }
+    catch (const std::exception &e)
+      {
+        std::cerr << name << ": error: " << context << e.what() << '\n';
+        return 3;
+      }
+  }
+
   /// `wirefem analyze PATH`: loops, morphology, symmetry and phi of a shape
   /// (CSV file or a run's output directory) as JSON on stdout.
   int analyze(int argc, char **argv)
@@ -51,22 +77,11 @@ namespace
         ->check(CLI::PositiveNumber);
     if (const int status = parse(app, argc, argv, "wirefem analyze"); status >= 0)
       return status;
-    try
-      {
-        const auto wire = wirefem::analysis::read_shape(path, options);
-        std::cout << wirefem::analysis::analysis_report(wire, wire.cavity_radius > 0.0) << '\n';
-        return 0;
-      }
-    catch (const wirefem::analysis::ShapeError &e)
-      {
-        std::cerr << "wirefem analyze: error: " << e.what() << '\n';
-        return 2;
-      }
-    catch (const std::exception &e)
-      {
-        std::cerr << "wirefem analyze: error: " << path << ": " << e.what() << '\n';
-        return 3;
-      }
+    return with_exit_status("wirefem analyze", path + ": ", [&] {
+      const auto wire = wirefem::analysis::read_shape(path, options);
+      std::cout << wirefem::analysis::analysis_report(wire, wire.cavity_radius > 0.0) << '\n';
+      return 0;
+    });
   }
 
   /// `[mpirun -np N] wirefem sweep FILE.prm`: the phase-diagram sweep.
@@ -78,20 +93,9 @@ namespace
     app.add_option("file", file, "Sweep file (README, Phase diagram)")->required();
     if (const int status = parse(app, argc, argv, "wirefem sweep"); status >= 0)
       return status;
-    try
-      {
-        return wirefem::simulation::run_sweep(wirefem::simulation::read_sweep(file));
-      }
-    catch (const wirefem::scene::InputError &e)
-      {
-        std::cerr << "wirefem sweep: error: " << e.what() << '\n';
-        return 2;
-      }
-    catch (const std::exception &e)
-      {
-        std::cerr << "wirefem sweep: error: " << e.what() << '\n';
-        return 3;
-      }
+    return with_exit_status("wirefem sweep", "", [&] {
+      return wirefem::simulation::run_sweep(wirefem::simulation::read_sweep(file));
+    });
   }
 } // namespace
 
@@ -130,33 +134,13 @@ int main(int argc, char **argv)
       std::cerr << "wirefem: error: no scene file given (see --help)\n";
       return 2;
     }
-  wirefem::scene::Scene scene;
-  try
-    {
-      scene = wirefem::scene::read_scene(prm_file, overrides);
-    }
-  catch (const wirefem::scene::InputError &e)
-    {
-      std::cerr << "wirefem: error: " << e.what() << '\n';
-      return 2;
-    }
-  try
-    {
-      if (scene.setup == wirefem::scene::Setup::cantilever)
-        return wirefem::simulation::run_cantilever(scene).converged ? 0 : 3;
-      if (scene.setup == wirefem::scene::Setup::capstan)
-        return wirefem::simulation::run_capstan(scene).finished ? 0 : 3;
-      const auto result = wirefem::simulation::run(scene, {resume});
-      return result.interrupted ? 130 : (result.failed ? 3 : 0);
-    }
-  catch (const wirefem::scene::InputError &e)
-    {
-      std::cerr << "wirefem: error: " << e.what() << '\n';
-      return 2;
-    }
-  catch (const std::exception &e)
-    {
-      std::cerr << "wirefem: error: " << e.what() << '\n';
-      return 3;
-    }
+  return with_exit_status("wirefem", "", [&] {
+    const auto scene = wirefem::scene::read_scene(prm_file, overrides);
+    if (scene.setup == wirefem::scene::Setup::cantilever)
+      return wirefem::simulation::run_cantilever(scene).converged ? 0 : 3;
+    if (scene.setup == wirefem::scene::Setup::capstan)
+      return wirefem::simulation::run_capstan(scene).finished ? 0 : 3;
+    const auto result = wirefem::simulation::run(scene, {resume});
+    return result.interrupted ? 130 : (result.failed ? 3 : 0);
+  });
 }

@@ -323,32 +323,46 @@ namespace wirefem::discrete
 
 namespace wirefem::discrete
 {
+  namespace
+  {
+    /// A contact term's restart data: its friction histories and, with
+    /// friction, the work friction has done.
+    template <typename Histories>
+    void save_contact_state(std::ostream &out, const Histories &history, const bool friction,
+                            const FrictionWork &work)
+    {
+      core::write_map(out, history);
+      if (friction)
+        work.save(out);
+    }
+
+    template <typename Histories>
+    void load_contact_state(std::istream &in, Histories &history, const bool friction, FrictionWork &work)
+    {
+      core::read_map(in, history);
+      if (friction)
+        work.load(in);
+    }
+  } // namespace
+
   void WallContactTerm::save(std::ostream &out) const
   {
-    core::write_map(out, history);
-    if (law.friction)
-      friction_work.save(out);
+    save_contact_state(out, history, law.friction, friction_work);
   }
 
   void WallContactTerm::load(std::istream &in)
   {
-    core::read_map(in, history);
-    if (law.friction)
-      friction_work.load(in);
+    load_contact_state(in, history, law.friction, friction_work);
   }
 
   void SelfContactTerm::save(std::ostream &out) const
   {
-    core::write_map(out, history);
-    if (law.friction)
-      friction_work.save(out);
+    save_contact_state(out, history, law.friction, friction_work);
   }
 
   void SelfContactTerm::load(std::istream &in)
   {
-    core::read_map(in, history);
-    if (law.friction)
-      friction_work.load(in);
+    load_contact_state(in, history, law.friction, friction_work);
     broad.invalidate();
   }
 } // namespace wirefem::discrete

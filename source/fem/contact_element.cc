@@ -237,6 +237,14 @@ namespace wirefem::fem
 
   namespace
   {
+    /// Clears `out` for a contact of n points; returns its number of dofs.
+    int start_contribution(ContactContribution &out, const int n)
+    {
+      out = ContactContribution{};
+      out.n_points = n;
+      return 2 * n;
+    }
+
     /// Point x[0] against the segment x[1]-x[2] (n = 3) or the point x[1]
     /// (n = 2): penalty on the overlap with the closest point q, regularised
     /// friction on the relative velocity of x[0] and q.
@@ -244,9 +252,7 @@ namespace wirefem::fem
                              const Vec2 *v0, const double c, ContactContribution &out, double &t_out,
                              const double friction_scale)
     {
-      const int nd = 2 * n;
-      out = ContactContribution{};
-      out.n_points = n;
+      const int nd = start_contribution(out, n);
       P<Fad> p[3];
       for (int m = 0; m < n; ++m)
         p[m] = {Fad(nd, 2 * m, x[m].x), Fad(nd, 2 * m + 1, x[m].y)};
@@ -389,9 +395,7 @@ namespace wirefem::fem
                        const Vec2 *v0, const double c, ContactContribution &out, double &t_out,
                        const double friction_scale)
     {
-      const int nd = 2 * n;
-      out = ContactContribution{};
-      out.n_points = n;
+      const int nd = start_contribution(out, n);
       const ClosestParameter cp = closest_parameter(n, x);
       const Vec2 e = cp.e;
       const double t = cp.t;

@@ -72,11 +72,9 @@ namespace wirefem::simulation
 
     write_tables(dir, eq, recorded);
     nlohmann::json j;
+    describe_run(j, *model, "cantilever");
     for (const auto &[key, value] : model->statistics())
       j[key] = value;
-    j["setup"] = "cantilever";
-    j["model"] = model->name();
-    j["solver"] = solver_name(*model);
     j["length"] = cl.length;
     j["end_force"] = {cl.end_force_x, cl.end_force_y};
     j["end_moment"] = cl.end_moment;
@@ -86,8 +84,6 @@ namespace wirefem::simulation
     j["residual"] = result.residual;
     j["converged"] = result.converged;
     j["wall_time_s"] = result.wall_time_s;
-    j["active_effects"] = effects;
-    j["version"] = version();
     j["plastic_work"] = recorded.empty() ? 0.0 : recorded.back()[4];
     const auto &ledger = model->energies();
     j["energy"] = {{"bending", ledger.bending}, {"stretching", ledger.stretching}, {"shear", ledger.shear}};

@@ -33,14 +33,12 @@ namespace wirefem::simulation
 
     /// What the summaries of both models share: the set-up, the result and
     /// the capstan laws over the run's wrap angle.
-    nlohmann::json summary(const char *model, const CapstanResult &result, const scene::Scene &scene,
-                           const std::vector<std::string> &effects)
+    nlohmann::json summary(const core::Model &model, const CapstanResult &result, const scene::Scene &scene)
     {
       const auto &cs = scene.capstan;
       const auto &fr = scene.contact.friction;
       nlohmann::json j;
-      j["setup"] = "capstan";
-      j["model"] = model;
+      describe_run(j, model, "capstan");
       j["control"] = cs.velocity_control ? "velocity" : "force";
       j["finished"] = result.finished;
       j["wrap_angle"] = result.wrap_angle;
@@ -52,8 +50,6 @@ namespace wirefem::simulation
       j["capstan_static"] = cs.end_force * std::exp(fr.wall_static_coefficient * result.wrap_angle);
       j["steps"] = result.steps;
       j["wall_time_s"] = result.wall_time_s;
-      j["active_effects"] = effects;
-      j["version"] = version();
       return j;
     }
 
@@ -198,8 +194,7 @@ namespace wirefem::simulation
           rows[k][1] = run.profile_sum[k] / run.force_time;
       write_profile(run.dir, rows);
 
-      auto j = summary(model.name().c_str(), result, run.scene, model.active_effects());
-      j["solver"] = solver_name(model);
+      auto j = summary(model, result, run.scene);
       j["description"] = model.description();
       for (const auto &[key, value] : model.statistics())
         j[key] = value;

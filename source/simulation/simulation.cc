@@ -30,6 +30,20 @@ namespace wirefem::simulation
 {
   namespace
   {
+    /// A fit's record in summary.json: its values and the window it used, or
+    /// why it could not be made.
+    template <typename Fit>
+    nlohmann::json fit_record(const Fit &fit, nlohmann::json values)
+    {
+      if (!fit.ok)
+        return {{"reason", fit.reason}};
+      values["log_prefactor"] = fit.log_prefactor;
+      values["phi_min"] = fit.phi_min;
+      values["phi_max"] = fit.phi_max;
+      values["rows"] = fit.n_points;
+      return values;
+    }
+
     /// gamma of N_l ~ phi^gamma and (phi_c, beta) of F ~ (phi_c - phi)^beta
     /// from the run's series (README, "Fits"); null where a fit is not possible.
     void add_fits(nlohmann::json &j, const std::string &series_file, const double phi_final)
@@ -37,29 +51,16 @@ namespace wirefem::simulation
       const auto c = io::read_series_columns(series_file, {"phi", "loops", "force"});
       const auto loops = analysis::fit_loop_exponent(c[0], c[1]);
       const auto force = analysis::fit_jamming_force(c[0], c[2], 0.5 * phi_final);
-      auto or_null = [](const bool ok, const double v) { return ok ? nlohmann::json(v) : nlohmann::json(); };
-      j["gamma"] = or_null(loops.ok, loops.gamma);
-      j["gamma_error"] = or_null(loops.ok, loops.gamma_error);
-      j["phi_c"] = or_null(force.ok, force.phi_c);
-      j["phi_c_error"] = or_null(force.ok, force.phi_c_error);
-      j["beta"] = or_null(force.ok, force.beta);
-      j["beta_error"] = or_null(force.ok, force.beta_error);
-      j["fits"]["loops"] = loops.ok ? nlohmann::json{{"gamma", loops.gamma},
-                                                     {"gamma_error", loops.gamma_error},
-                                                     {"log_prefactor", loops.log_prefactor},
-                                                     {"phi_min", loops.phi_min},
-                                                     {"phi_max", loops.phi_max},
-                                                     {"rows", loops.n_points}}
-                                    : nlohmann::json{{"reason", loops.reason}};
-      j["fits"]["force"] = force.ok ? nlohmann::json{{"phi_c", force.phi_c},
-                                                     {"phi_c_error", force.phi_c_error},
-                                                     {"beta", force.beta},
-                                                     {"beta_error", force.beta_error},
-                                                     {"log_prefactor", force.log_prefactor},
-                                                     {"phi_min", force.phi_min},
-                                                     {"phi_max", force.phi_max},
-                                                     {"rows", force.n_points}}
-                                    : nlohmann::json{{"reason", force.reason}};
+      j["fits"]["loops"] = fit_record(loops, {{"gamma", loops.gamma}, {"gamma_error", loops.gamma_error}});
+      j["fits"]["force"] = fit_record(force, {{"phi_c", force.phi_c},
+                                              {"phi_c_error", force.phi_c_error},
+                                              {"beta", force.beta},
+                                              {"beta_error", force.beta_error}});
+      // The exponents again at the top level (null without a fit).
+      for (const char *key : {"gamma", "gamma_error"})
+        j[key] = loops.ok ? j["fits"]["loops"][key] : nlohmann::json();
+      for (const char *key : {"phi_c", "phi_c_error", "beta", "beta_error"})
+        j[key] = force.ok ? j["fits"]["force"][key] : nlohmann::json();
     }
 
     const std::vector<std::string> columns = {"time",
@@ -486,8 +487,7 @@ namespace wirefem::simulation
       const auto &result = run.result;
       const auto &e = model.energies();
       nlohmann::json j;
-      j["model"] = model.name();
-      j["solver"] = solver_name(model);
+      describe_run(j, model, "injection");
       j["scene"] = run.scene.name;
       j["cavity_radius"] = run.radius();
       j["phi_final"] = result.phi_final;
@@ -504,8 +504,6 @@ namespace wirefem::simulation
       j["time"] = model.time();
       j["time_step"] = model.time_step();
       j["wall_time_s"] = result.wall_time_s;
-      j["active_effects"] = model.active_effects();
-      j["version"] = version();
       j["max_penetration"] = result.max_penetration;
       j["energy"] = {{"initial", e.initial},
                      {"injection_work", e.injection_work},

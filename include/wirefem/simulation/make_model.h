@@ -4,6 +4,8 @@
 #include <wirefem/core/model.h>
 #include <wirefem/scene/parameters.h>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <memory>
 #include <string>
 
@@ -14,4 +16,7 @@ namespace wirefem::simulation
   /// The class of a model as the program sees it (summary.json's "solver":
   /// the validation report shows which class ran each case).
   std::string solver_name(const core::Model &model);
+  /// What every summary.json says of the run that wrote it: the set-up, the
+  /// model, its class (solver_name), the effects it built and the version.
+  void describe_run(nlohmann::json &j, const core::Model &model, const std::string &setup);
 } // namespace wirefem::simulation
