@@ -19,7 +19,7 @@ namespace wirefem::discrete
     }
   } // namespace
 
-  void ChainModel::build_clamped(const scene::Scene &scene)
+  void ChainModel::build_clamped(const scene::ChainScene &scene)
   {
     clamped = true;
     cantilever = scene.cantilever;
@@ -41,7 +41,7 @@ namespace wirefem::discrete
     // for the half segment next to it (ClampTerm).
     const auto &pl = w.plasticity;
     const double alpha = scene.yield_angle();
-    const bool plastic = scene.plastic_bending();
+    const bool plastic = scene.plastic_bending;
     const auto law = plastic ? material::MomentCurvatureLaw(k2, alpha, pl.hardening_slope, pl.hardening)
                              : material::MomentCurvatureLaw(k2);
     const auto clamp_law =
@@ -171,7 +171,7 @@ namespace wirefem::discrete
             {"damping", drag}};
   }
 
-  void ChainModel::build_capstan(const scene::Scene &scene)
+  void ChainModel::build_capstan(const scene::ChainScene &scene)
   {
     // Nodes on the circle of radius Rc (the centreline on the wall), one
     // chord lambda_0 apart, turning clockwise by zeta at each. The

@@ -26,7 +26,7 @@ namespace wirefem::discrete
     }
   } // namespace
 
-  ChainModel::ChainModel(const scene::Scene &scene)
+  ChainModel::ChainModel(const scene::ChainScene &scene)
     : radius(scene.cavity.radius)
     , diameter(1.0)
     , lambda0(scene.discrete.segment_length)
@@ -42,7 +42,7 @@ namespace wirefem::discrete
       build_injected(scene);
   }
 
-  void ChainModel::build_injected(const scene::Scene &scene)
+  void ChainModel::build_injected(const scene::ChainScene &scene)
   {
     allocate_injected_chain(scene);
     // The explicit stability bound: each term adds its squared frequency,
@@ -75,7 +75,7 @@ namespace wirefem::discrete
     ledger.contact = e0.contact;
   }
 
-  void ChainModel::allocate_injected_chain(const scene::Scene &scene)
+  void ChainModel::allocate_injected_chain(const scene::ChainScene &scene)
   {
     const double mass = scene.wire.mass_per_length * lambda0;
     // Storage for every node the run can hold: the wire that fills the
@@ -111,7 +111,7 @@ namespace wirefem::discrete
     feed_channels();
   }
 
-  double ChainModel::add_material_terms(const scene::Scene &scene)
+  double ChainModel::add_material_terms(const scene::ChainScene &scene)
   {
     const double k1 = scene.wire.axial_stiffness / lambda0;
     const double mass = scene.wire.mass_per_length * lambda0;
@@ -122,7 +122,7 @@ namespace wirefem::discrete
       {
         const auto &pl = scene.wire.plasticity;
         const double alpha = scene.yield_angle();
-        const bool plastic = scene.plastic_bending();
+        const bool plastic = scene.plastic_bending;
         const auto law = plastic ? material::MomentCurvatureLaw(k2, alpha, pl.hardening_slope, pl.hardening)
                                  : material::MomentCurvatureLaw(k2);
         auto b = std::make_unique<BendingTerm>(law, scene.discrete.rotational_damping, nodes.capacity());
@@ -141,7 +141,7 @@ namespace wirefem::discrete
     return omega2;
   }
 
-  void ChainModel::add_contact_terms(const scene::Scene &scene, double &omega2)
+  void ChainModel::add_contact_terms(const scene::ChainScene &scene, double &omega2)
   {
     const bool keep = scene.keep_neutral_effects;
     const double mass = scene.wire.mass_per_length * lambda0;
@@ -212,7 +212,7 @@ namespace wirefem::discrete
 
   ChainModel::~ChainModel() = default;
 
-  void ChainModel::place_initial_wire(const scene::Scene &scene)
+  void ChainModel::place_initial_wire(const scene::ChainScene &scene)
   {
     const int n0 = static_cast<int>(std::lround(channels.initial_length() / lambda0));
     const int extra = (nodes.capacity() - (n0 + 1 + 4)) / 2;

@@ -8,7 +8,7 @@
 
 namespace wirefem::fem
 {
-  void RodModel::Impl::build_capstan_mesh(const scene::Scene &s)
+  void RodModel::Impl::build_capstan_mesh(const scene::RodScene &s)
   {
     // Elements of length about h over the wrap angle; the frictional
     // contacts act at the nodes, each over the wire length it stands for.

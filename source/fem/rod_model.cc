@@ -7,7 +7,7 @@ namespace wirefem::fem
     constexpr std::uint64_t fem_magic = 0x77666d66656d3031ull; // "wfmfem01"
   }                                                            // namespace
 
-  RodModel::RodModel(const scene::Scene &scene)
+  RodModel::RodModel(const scene::RodScene &scene)
     : impl(std::make_unique<Impl>(scene))
   {
   }

@@ -118,7 +118,7 @@ namespace wirefem::fem
 
   struct RodModel::Impl
   {
-    scene::Scene scene;
+    scene::RodScene scene;
     double radius, diameter, rhoA, rhoI;
     injection::Channels channels;
     unsigned int p;
@@ -260,7 +260,7 @@ namespace wirefem::fem
       bool spring = false;
       std::vector<contact::FrictionHistory> history;
     } cap;
-    void build_capstan_mesh(const scene::Scene &s);
+    void build_capstan_mesh(const scene::RodScene &s);
     void set_capstan_state();
     /// Follower forces and end moments at the time of the step (wall_time).
     void assemble_capstan_loads(const AssemblyRequest &rq, Evaluation &e);
@@ -282,28 +282,28 @@ namespace wirefem::fem
     /// The clamp loading's current state as an equilibrium.
     core::Equilibrium equilibrium(bool converged) const;
 
-    explicit Impl(const scene::Scene &s);
+    explicit Impl(const scene::RodScene &s);
     /// The mesh of the whole wire that can ever enter, numbered node by node
     /// along the wire; node coordinates and the element mass matrix.
-    void build_mesh(const scene::Scene &s);
+    void build_mesh(const scene::RodScene &s);
     /// n_cells, h and the inlets' material coordinates of the injection.
-    void build_channel_mesh(const scene::Scene &s);
+    void build_channel_mesh(const scene::RodScene &s);
     /// The triangulation of n_cells elements of length h, its dofs and nodes.
     void make_mesh();
     /// Section, material, contact settings, the effects of the run, and the
     /// time integrator's parameters and step.
-    void build_physics(const scene::Scene &s);
+    void build_physics(const scene::RodScene &s);
     /// Section, moment-curvature law, dashpots.
-    void build_material(const scene::Scene &s);
+    void build_material(const scene::RodScene &s);
     /// Wall and self contact settings, the broad phase.
-    void build_contact(const scene::Scene &s);
+    void build_contact(const scene::RodScene &s);
     /// Time integrator (or static path), Newton's tolerance and step.
-    void build_integrator(const scene::Scene &s);
+    void build_integrator(const scene::RodScene &s);
     /// The seeded shape at rest, its initial acceleration and stored energy.
-    void set_initial_state(const scene::Scene &s);
+    void set_initial_state(const scene::RodScene &s);
     /// The injection's initial wire: the seeded shape across the cavity (or
     /// the S between tangential inlets), on the channel axes beyond.
-    void place_injected_wire(const scene::Scene &s);
+    void place_injected_wire(const scene::RodScene &s);
 
     int node_dof(unsigned int node, unsigned int c) const { return static_cast<int>(3 * node + c); }
     double left_inlet_S(double time) const { return a_left - channels.injected_per_channel(time); }

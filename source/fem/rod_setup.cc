@@ -2,7 +2,7 @@
 
 namespace wirefem::fem
 {
-  RodModel::Impl::Impl(const scene::Scene &s)
+  RodModel::Impl::Impl(const scene::RodScene &s)
     : scene(s)
     , radius(s.cavity.radius)
     , diameter(1.0)
@@ -32,7 +32,7 @@ namespace wirefem::fem
     set_initial_state(scene);
   }
 
-  void RodModel::Impl::build_mesh(const scene::Scene &s)
+  void RodModel::Impl::build_mesh(const scene::RodScene &s)
   {
     if (clamped)
       {
@@ -50,7 +50,7 @@ namespace wirefem::fem
     make_mesh();
   }
 
-  void RodModel::Impl::build_channel_mesh(const scene::Scene &s)
+  void RodModel::Impl::build_channel_mesh(const scene::RodScene &s)
   {
     // The wire the channels can ever push in: phi_max pi r^2 inside, plus
     // two elements of margin in each channel.
@@ -145,14 +145,14 @@ namespace wirefem::fem
                                                           mass_shape.value(q, j) * (c < 2 ? rhoA : rhoI);
   }
 
-  void RodModel::Impl::build_physics(const scene::Scene &s)
+  void RodModel::Impl::build_physics(const scene::RodScene &s)
   {
     build_material(s);
     build_contact(s);
     build_integrator(s);
   }
 
-  void RodModel::Impl::build_material(const scene::Scene &s)
+  void RodModel::Impl::build_material(const scene::RodScene &s)
   {
     const auto &w = s.wire;
     section.EA = w.axial_stiffness;
@@ -165,7 +165,7 @@ namespace wirefem::fem
       section.axial_viscosity = section.bending_viscosity = 0.0;
     viscous = section.axial_viscosity > 0 || section.bending_viscosity > 0;
     const auto &pl = w.plasticity;
-    plastic = s.plastic_bending();
+    plastic = s.plastic_bending;
     law = plastic ? material::MomentCurvatureLaw(w.bending_stiffness, pl.yield_curvature, pl.hardening_slope,
                                                  pl.hardening)
                   : material::MomentCurvatureLaw(w.bending_stiffness);
@@ -180,7 +180,7 @@ namespace wirefem::fem
       effects.push_back("damping");
   }
 
-  void RodModel::Impl::build_contact(const scene::Scene &s)
+  void RodModel::Impl::build_contact(const scene::RodScene &s)
   {
     const bool keep = s.keep_neutral_effects;
     const auto &con = s.contact;
@@ -207,7 +207,7 @@ namespace wirefem::fem
     broad = contact::BroadPhase(diameter, con.skin, exclusion);
   }
 
-  void RodModel::Impl::build_integrator(const scene::Scene &s)
+  void RodModel::Impl::build_integrator(const scene::RodScene &s)
   {
     const auto &w = s.wire;
     if (clamped)
@@ -276,7 +276,7 @@ namespace wirefem::fem
       window[side].length = h / p;
   }
 
-  void RodModel::Impl::place_injected_wire(const scene::Scene &s)
+  void RodModel::Impl::place_injected_wire(const scene::RodScene &s)
   {
     const double L0 = channels.initial_length();
     if (channels.is_tangential())
@@ -317,7 +317,7 @@ namespace wirefem::fem
       }
   }
 
-  void RodModel::Impl::set_initial_state(const scene::Scene &s)
+  void RodModel::Impl::set_initial_state(const scene::RodScene &s)
   {
     // Initial state: straight in the channels, the seeded shape across the
     // cavity, at rest.

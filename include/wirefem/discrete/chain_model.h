@@ -31,7 +31,7 @@ namespace wirefem::discrete
   class ChainModel final : public core::Model
   {
   public:
-    explicit ChainModel(const scene::Scene &scene);
+    explicit ChainModel(const scene::ChainScene &scene);
     ~ChainModel() override;
 
     std::string name() const override { return "discrete"; }
@@ -86,17 +86,17 @@ namespace wirefem::discrete
     void load(std::istream &in) override;
 
   private:
-    void build_injected(const scene::Scene &scene);
+    void build_injected(const scene::ChainScene &scene);
     /// Storage for every node the injection can hold, the initial wire and
     /// the channels' nodes.
-    void allocate_injected_chain(const scene::Scene &scene);
+    void allocate_injected_chain(const scene::ChainScene &scene);
     /// Stretching, bending and damping; returns their omega^2 bound.
-    double add_material_terms(const scene::Scene &scene);
+    double add_material_terms(const scene::ChainScene &scene);
     /// Wall, self contact (with the curvature limit) and channel walls; adds
     /// their omega^2 bound.
-    void add_contact_terms(const scene::Scene &scene, double &omega2);
-    void build_clamped(const scene::Scene &scene);
-    void build_capstan(const scene::Scene &scene);
+    void add_contact_terms(const scene::ChainScene &scene, double &omega2);
+    void build_clamped(const scene::ChainScene &scene);
+    void build_capstan(const scene::ChainScene &scene);
     /// One explicit step of the capstan loading.
     void capstan_step();
     /// Velocity control: nodes 0 and 1 where the push has taken them at t.
@@ -107,7 +107,7 @@ namespace wirefem::discrete
     /// One explicit step of the clamp loading with the forces of
     /// clamped_forces() (semi-implicit Euler, the drag at the step's midpoint).
     void clamped_advance();
-    void place_initial_wire(const scene::Scene &scene);
+    void place_initial_wire(const scene::ChainScene &scene);
     void feed_channels();
 
     double radius, diameter, lambda0, k2;

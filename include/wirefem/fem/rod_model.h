@@ -33,7 +33,7 @@ namespace wirefem::fem
   class RodModel final : public core::Model
   {
   public:
-    explicit RodModel(const scene::Scene &scene);
+    explicit RodModel(const scene::RodScene &scene);
     ~RodModel() override;
 
     std::string name() const override { return "fem"; }

@@ -262,11 +262,10 @@ namespace wirefem::scene
     double checkpoint_interval = 300.0; ///< wall seconds between checkpoints; 0: only on interruption
   };
 
-  struct Scene
+  /// The sections both models read: the set-up with its loading, the
+  /// cavity, the wire and the contacts.
+  struct PhysicsSections
   {
-    std::string name;     ///< prm file stem
-    std::string prm_file; ///< as given on the command line
-    ModelType model = ModelType::discrete;
     Setup setup = Setup::injection;
     CantileverParameters cantilever;
     CapstanParameters capstan;
@@ -274,10 +273,17 @@ namespace wirefem::scene
     WireParameters wire;
     ContactParameters contact;
     InjectionParameters injection;
+    bool keep_neutral_effects = false; ///< build effects even with neutral parameters
+  };
+
+  struct Scene : PhysicsSections
+  {
+    std::string name;     ///< prm file stem
+    std::string prm_file; ///< as given on the command line
+    ModelType model = ModelType::discrete;
     DiscreteParameters discrete;
     FemParameters fem;
     OutputParameters output;
-    bool keep_neutral_effects = false; ///< build effects even with neutral parameters
     /// Every key outside Output with its value, one "Section/Key = value"
     /// line each, sorted by key (read_scene): a checkpoint resumes only the
     /// scene with the same fingerprint.
@@ -295,6 +301,47 @@ namespace wirefem::scene
       const auto &pl = wire.plasticity;
       return wire.bending_stiffness > 0.0 && pl.enabled &&
              (keep_neutral_effects || (yield_angle() < M_PI && pl.hardening_slope < 1.0));
+    }
+  };
+
+  /// What a model reads of a scene: the shared sections and the decisions
+  /// both models take alike; not the output, not the other model's
+  /// numerics. The factory (simulation::make_model) hands each model its
+  /// own view.
+  struct PhysicsScene : PhysicsSections
+  {
+    bool plastic_bending = false; ///< Scene::plastic_bending()
+
+    explicit PhysicsScene(const Scene &s)
+      : PhysicsSections(s)
+      , plastic_bending(s.plastic_bending())
+    {
+    }
+  };
+
+  /// The discrete model's view of a scene.
+  struct ChainScene : PhysicsScene
+  {
+    DiscreteParameters discrete;
+
+    ChainScene(const Scene &s) // NOLINT: a Scene is handed to the model as its view
+      : PhysicsScene(s)
+      , discrete(s.discrete)
+    {
+    }
+    /// Yield angle alpha_theta = kappa_theta * lambda_0.
+    double yield_angle() const { return wire.plasticity.yield_curvature * discrete.segment_length; }
+  };
+
+  /// The rod FEM's view of a scene.
+  struct RodScene : PhysicsScene
+  {
+    FemParameters fem;
+
+    RodScene(const Scene &s) // NOLINT: a Scene is handed to the model as its view
+      : PhysicsScene(s)
+      , fem(s.fem)
+    {
     }
   };
 } // namespace wirefem::scene
