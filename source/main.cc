@@ -36,8 +36,8 @@ namespace
       }
   }
 
-  /// Runs `body` under the exit-status contract: bad input (InputError,
-  /// ShapeError) 2, anything else 3, reported as "NAME: error: [CONTEXT: ]...".
+  /// Runs `body` under the exit-status contract: bad input
+  /// (core::InputError) 2, anything else 3, reported as "NAME: error: [CONTEXT: ]...".
   template <typename Body>
   int with_exit_status(const std::string &name, const std::string &context, Body &&body)
   {
@@ -45,12 +45,7 @@ namespace
       {
         return body();
       }
-    catch (const wirefem::scene::InputError &e)
-      {
-        std::cerr << name << ": error: " << e.what() << '\n';
-        return 2;
-      }
-    catch (const wirefem::analysis::ShapeError &e)
+    catch (const wirefem::core::InputError &e)
       {
         std::cerr << name << ": error: " << e.what() << '\n';
         return 2;

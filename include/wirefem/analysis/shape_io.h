@@ -3,6 +3,7 @@
 // `wirefem analyze`.
 #pragma once
 
+#include <wirefem/core/input_error.h>
 #include <wirefem/core/wire_state.h>
 
 #include <optional>
@@ -12,11 +13,7 @@
 namespace wirefem::analysis
 {
   /// Unreadable or malformed input: the message names the file (and line).
-  class ShapeError : public std::runtime_error
-  {
-  public:
-    using std::runtime_error::runtime_error;
-  };
+  using ShapeError = core::InputError;
 
   /// What the caller knows about a shape beyond its points.
   struct ShapeOptions

@@ -1,6 +1,8 @@
 // series.csv: one row per output step, a fixed set of named columns.
 #pragma once
 
+#include <wirefem/core/input_error.h>
+
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -9,11 +11,7 @@
 namespace wirefem::io
 {
   /// Resuming onto a series.csv whose header is not this writer's columns.
-  class SeriesColumnsError : public std::runtime_error
-  {
-  public:
-    using std::runtime_error::runtime_error;
-  };
+  using SeriesColumnsError = core::InputError;
 
   class SeriesWriter
   {

@@ -3,6 +3,7 @@
 // the file, the key and the reason in one line.
 #pragma once
 
+#include <wirefem/core/input_error.h>
 #include <wirefem/scene/parameters.h>
 
 #include <ostream>
@@ -13,11 +14,7 @@
 namespace wirefem::scene
 {
   /// Bad input: a one-line message "FILE: KEY: reason" (exit status 2).
-  class InputError : public std::runtime_error
-  {
-  public:
-    using std::runtime_error::runtime_error;
-  };
+  using core::InputError;
 
   /// Reads `prm_file` (may be empty: defaults only) and applies `overrides`
   /// ("Section/Sub/Key=value") in order. Throws InputError on bad input.
