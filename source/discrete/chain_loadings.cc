@@ -61,12 +61,9 @@ namespace wirefem::discrete
       effects.push_back("plasticity");
     effects.push_back("end load");
 
-    // The explicit stability bound of the injection's stretching and
-    // bending; the drag is mass proportional, so every mode decays at
-    // drag/2 (the first critically by default).
-    const double omega2 = 4.0 * k1 / mass + 16.0 * k2 / (mass * lambda0 * lambda0);
-    dt = scene.discrete.time_step > 0.0 ? scene.discrete.time_step
-                                        : scene.discrete.time_step_factor * 2.0 / std::sqrt(omega2);
+    // The drag is mass proportional, so every mode decays at drag/2 (the
+    // first critically by default).
+    dt = stable_time_step(scene.discrete);
     const double omega1 = 3.5160 * std::sqrt(w.bending_stiffness / (w.mass_per_length * L * L * L * L));
     drag = cantilever.damping > 0.0 ? cantilever.damping : 2.0 * omega1;
     force_scale = cantilever.force_scale(w.bending_stiffness);
@@ -237,14 +234,7 @@ namespace wirefem::discrete
       terms.push_back(std::make_unique<DampingTerm>(scene.discrete.translational_damping, n + 1));
     effects = {"stretching", "bending", "wall contact", "friction", "end loads"};
 
-    const double omega2 = 4.0 * k1 / mass + 16.0 * k2 / (mass * lambda0 * lambda0) +
-                          (4.0 + 4.0 * fr.tangential_stiffness_ratio) * kn / mass;
-    const auto &dd = scene.discrete;
-    dt = dd.time_step > 0.0
-             ? dd.time_step
-             : explicit_time_step(dd.time_step_factor, omega2,
-                                  dashpot_rate(mass, lambda0, dd.axial_damping, dd.rotational_damping,
-                                               dd.translational_damping));
+    dt = stable_time_step(scene.discrete);
   }
 
   void ChainModel::place_pushed_nodes()

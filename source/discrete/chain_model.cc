@@ -45,17 +45,9 @@ namespace wirefem::discrete
   void ChainModel::build_injected(const scene::ChainScene &scene)
   {
     allocate_injected_chain(scene);
-    // The explicit stability bound: each term adds its squared frequency,
-    // in this order.
-    double omega2 = add_material_terms(scene);
-    add_contact_terms(scene, omega2);
-    const double mass = scene.wire.mass_per_length * lambda0;
-    const auto &dd = scene.discrete;
-    dt = dd.time_step > 0.0 ? dd.time_step
-                            : explicit_time_step(dd.time_step_factor, omega2,
-                                                 dashpot_rate(mass, lambda0, dd.axial_damping,
-                                                              bending ? dd.rotational_damping : 0.0,
-                                                              dd.translational_damping));
+    add_material_terms(scene);
+    add_contact_terms(scene);
+    dt = stable_time_step(scene.discrete);
 
     // The perturbed initial wire is not stress free: its energy is energy in.
     // Where it is bent beyond yield it starts plastically pre-bent (the
@@ -111,13 +103,11 @@ namespace wirefem::discrete
     feed_channels();
   }
 
-  double ChainModel::add_material_terms(const scene::ChainScene &scene)
+  void ChainModel::add_material_terms(const scene::ChainScene &scene)
   {
     const double k1 = scene.wire.axial_stiffness / lambda0;
-    const double mass = scene.wire.mass_per_length * lambda0;
     effects.push_back("stretching");
     terms.push_back(std::make_unique<StretchingTerm>(k1, scene.discrete.axial_damping, nodes.capacity()));
-    double omega2 = 4.0 * k1 / mass;
     if (scene.wire.bending_stiffness > 0.0)
       {
         const auto &pl = scene.wire.plasticity;
@@ -131,20 +121,16 @@ namespace wirefem::discrete
         effects.push_back("bending");
         if (bending->has_plasticity())
           effects.push_back("plasticity");
-        omega2 += 16.0 * k2 / (mass * lambda0 * lambda0);
       }
     if (scene.discrete.translational_damping > 0.0)
       terms.push_back(std::make_unique<DampingTerm>(scene.discrete.translational_damping, nodes.capacity()));
     if (scene.discrete.translational_damping > 0.0 || (bending && scene.discrete.rotational_damping > 0.0))
       effects.push_back("damping");
-
-    return omega2;
   }
 
-  void ChainModel::add_contact_terms(const scene::ChainScene &scene, double &omega2)
+  void ChainModel::add_contact_terms(const scene::ChainScene &scene)
   {
     const bool keep = scene.keep_neutral_effects;
-    const double mass = scene.wire.mass_per_length * lambda0;
     const auto &con = scene.contact;
     const auto &fr = con.friction;
     // Penalty per unit wire length: a node (or a segment pair) stands for
@@ -180,34 +166,30 @@ namespace wirefem::discrete
         const double zeta_max = std::min(2.0 * lambda0 / diameter, 2.0 * M_PI / 3.0);
         const double k_limit = 0.25 * kn * lambda0 * lambda0;
         terms.push_back(std::make_unique<CurvatureLimitTerm>(zeta_max, k_limit));
-        omega2 += 16.0 * k_limit / (mass * lambda0 * lambda0);
         effects.push_back("self contact");
       }
     if (any_friction)
       effects.push_back("friction");
     if (any_friction && fr.surface_torque)
       effects.push_back("surface torque");
-    // 4 k_n/m covers a node in two contacts; the sticking springs (k_t <=
-    // k_n) fit inside that margin, so the step does not depend on whether
-    // friction is on - a neutral effect must not change the trajectory.
-    if (con.wall_contact || con.self_contact)
-      omega2 += 4.0 * kn / mass;
-    // Friction at the surface turns the wire too: a contact's slip then also
-    // moves with the nodes next to it (d/2 times the turning of a node and
-    // of a segment), and the squared norm of its gradient, at most 2
-    // without, is at most (sqrt 2 + 0.94 d/lambda_0)^2: the sticking springs
-    // of a node in two contacts add 2 k_t ((sqrt 2 + d/lambda_0)^2 - 2)/m.
-    // The option is not a neutral effect, so the step may change with it.
-    if (any_friction && fr.surface_torque)
-      {
-        const double arm = std::sqrt(2.0) + diameter / lambda0;
-        omega2 += 2.0 * fr.tangential_stiffness_ratio * kn * (arm * arm - 2.0) / mass;
-      }
     // The channel walls: as stiff per length as the contact penalty per d.
     const double k_channel = con.normal_stiffness / diameter;
     terms.push_back(std::make_unique<ChannelTerm>(channels, k_channel));
-    omega2 += 2.0 * k_channel * lambda0 / mass;
     effects.push_back("inertia");
+  }
+
+  double ChainModel::stable_time_step(const scene::DiscreteParameters &dd) const
+  {
+    if (dd.time_step > 0.0)
+      return dd.time_step;
+    StabilityBound sum;
+    for (const auto &term : terms)
+      {
+        const auto b = term->stability_bound(nodes.node_mass, lambda0);
+        sum.omega2 += b.omega2;
+        sum.rate += b.rate;
+      }
+    return explicit_time_step(dd.time_step_factor, sum.omega2, sum.rate);
   }
 
   ChainModel::~ChainModel() = default;

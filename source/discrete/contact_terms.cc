@@ -95,6 +95,45 @@ namespace wirefem::discrete
     }
   } // namespace
 
+  namespace
+  {
+    /// A contact kind's share of the stability limit. The two kinds
+    /// together allow 4 k_n/m, a node in two contacts with a margin of 2
+    /// that also holds their sticking springs (k_t <= k_n), so the step does
+    /// not depend on whether friction is on: a neutral effect must not
+    /// change the trajectory. Friction at the surface turns the wire too: a
+    /// contact's slip then also moves with the nodes next to it (d/2 times
+    /// the turning of a node and of a segment), and the squared norm of its
+    /// gradient, at most 2 without, is at most (sqrt 2 + 0.94 d/lambda_0)^2:
+    /// a sticking spring adds k_t ((sqrt 2 + d/lambda_0)^2 - 2)/m. That
+    /// option is not a neutral effect, so the step may change with it.
+    StabilityBound contact_bound(const ContactLaw &law, const double mass, const double lambda0)
+    {
+      StabilityBound b{2.0 * law.normal_stiffness / mass, 0.0};
+      if (law.friction && law.surface_torque)
+        {
+          const double arm = std::sqrt(2.0) + law.diameter / lambda0;
+          b.omega2 += law.coefficients.tangential_stiffness * (arm * arm - 2.0) / mass;
+        }
+      return b;
+    }
+  } // namespace
+
+  StabilityBound WallContactTerm::stability_bound(const double mass, const double lambda0) const
+  {
+    return contact_bound(law, mass, lambda0);
+  }
+
+  StabilityBound SelfContactTerm::stability_bound(const double mass, const double lambda0) const
+  {
+    return contact_bound(law, mass, lambda0);
+  }
+
+  StabilityBound ChannelTerm::stability_bound(const double mass, const double lambda0) const
+  {
+    return {2.0 * stiffness * lambda0 / mass, 0.0};
+  }
+
   WallContactTerm::WallContactTerm(const double radius, const ContactLaw &law, const int capacity)
     : radius(radius)
     , law(law)

@@ -45,6 +45,27 @@ namespace wirefem::discrete
     };
   } // namespace
 
+  StabilityBound StretchingTerm::stability_bound(const double mass, const double) const
+  {
+    return {4.0 * k1 / mass, 4.0 * damping / mass};
+  }
+
+  StabilityBound BendingTerm::stability_bound(const double mass, const double lambda0) const
+  {
+    const double scale = 16.0 / (mass * lambda0 * lambda0);
+    return {scale * law.elastic_stiffness(), scale * damping};
+  }
+
+  StabilityBound CurvatureLimitTerm::stability_bound(const double mass, const double lambda0) const
+  {
+    return {16.0 * stiffness / (mass * lambda0 * lambda0), 0.0};
+  }
+
+  StabilityBound DampingTerm::stability_bound(const double, const double) const
+  {
+    return {0.0, gamma};
+  }
+
   StretchingTerm::StretchingTerm(const double k1, const double axial_damping, const int capacity)
     : k1(k1)
     , damping(axial_damping)

@@ -54,15 +54,6 @@ namespace wirefem::discrete
     return factor * 2.0 / std::max(std::sqrt(omega2), rate);
   }
 
-  /// The highest decay rate of the dashpots of a chain of node mass m and
-  /// segment length lambda_0: axial c_a, rotational c_r, translational
-  /// gamma (-gamma m v).
-  inline double dashpot_rate(const double mass, const double lambda0, const double axial,
-                             const double rotational, const double translational)
-  {
-    return 4.0 * axial / mass + 16.0 * rotational / (mass * lambda0 * lambda0) + translational;
-  }
-
   /// What the force terms of one step report: potential energies at the
   /// current state and the increments of dissipated work over the step.
   struct StepEnergy
@@ -84,11 +75,24 @@ namespace wirefem::discrete
   /// forces to chain.f from the state at the start of the step and leaves
   /// its history untouched until commit(), so that it can be evaluated
   /// repeatedly (finite-difference tests).
+  /// What a term adds to the explicit stability limit of a chain: to the
+  /// bound on the squared highest frequency of its springs, and to the
+  /// highest decay rate c/m of its dashpots (explicit_time_step).
+  struct StabilityBound
+  {
+    double omega2 = 0.0;
+    double rate = 0.0;
+  };
+
   class Term
   {
   public:
     virtual ~Term() = default;
     virtual const char *name() const = 0;
+    /// This term's share of the stability limit for nodes of `mass` spaced
+    /// lambda0; ChainModel sums the shares of all its terms, in the order
+    /// they were built. Terms without springs or dashpots add nothing.
+    virtual StabilityBound stability_bound(double /*mass*/, double /*lambda0*/) const { return {}; }
     virtual void add_forces(Chain &chain, double dt, StepEnergy &energy) = 0;
     virtual void commit() {}
     /// Writes / reads the committed history (checkpoints); binary, same build.

@@ -90,11 +90,14 @@ namespace wirefem::discrete
     /// Storage for every node the injection can hold, the initial wire and
     /// the channels' nodes.
     void allocate_injected_chain(const scene::ChainScene &scene);
-    /// Stretching, bending and damping; returns their omega^2 bound.
-    double add_material_terms(const scene::ChainScene &scene);
-    /// Wall, self contact (with the curvature limit) and channel walls; adds
-    /// their omega^2 bound.
-    void add_contact_terms(const scene::ChainScene &scene, double &omega2);
+    /// Stretching, bending and damping.
+    void add_material_terms(const scene::ChainScene &scene);
+    /// Wall, self contact (with the curvature limit) and channel walls.
+    void add_contact_terms(const scene::ChainScene &scene);
+    /// Discrete/Time step, or Time step factor of the stability limit that
+    /// the terms built so far report (Term::stability_bound): one place for
+    /// every loading.
+    double stable_time_step(const scene::DiscreteParameters &dd) const;
     void build_clamped(const scene::ChainScene &scene);
     void build_capstan(const scene::ChainScene &scene);
     /// One explicit step of the capstan loading.

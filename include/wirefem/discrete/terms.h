@@ -92,6 +92,7 @@ namespace wirefem::discrete
     /// capacity: number of nodes of the chain (needed with a dashpot).
     explicit StretchingTerm(double k1, double axial_damping = 0.0, int capacity = 0);
     const char *name() const override { return "stretching"; }
+    StabilityBound stability_bound(double mass, double lambda0) const override;
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
     void commit() override;
     void save(std::ostream &out) const override;
@@ -112,6 +113,7 @@ namespace wirefem::discrete
   public:
     BendingTerm(const material::MomentCurvatureLaw &law, double rotational_damping, int capacity);
     const char *name() const override { return "bending"; }
+    StabilityBound stability_bound(double mass, double lambda0) const override;
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
     void commit() override;
     void save(std::ostream &out) const override;
@@ -146,6 +148,7 @@ namespace wirefem::discrete
     {
     }
     const char *name() const override { return "curvature limit"; }
+    StabilityBound stability_bound(double mass, double lambda0) const override;
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
 
   private:
@@ -159,6 +162,7 @@ namespace wirefem::discrete
   public:
     DampingTerm(double gamma, int capacity);
     const char *name() const override { return "damping"; }
+    StabilityBound stability_bound(double mass, double lambda0) const override;
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
     void commit() override;
     void save(std::ostream &out) const override;
@@ -297,6 +301,7 @@ namespace wirefem::discrete
     /// channel (the end nodes behind its inlet) is left to the channel walls.
     void make_channels_tangential() { tangential = true; }
     const char *name() const override { return "wall contact"; }
+    StabilityBound stability_bound(double mass, double lambda0) const override;
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
     void commit() override;
     void save(std::ostream &out) const override;
@@ -338,6 +343,7 @@ namespace wirefem::discrete
     {
     }
     const char *name() const override { return "channel walls"; }
+    StabilityBound stability_bound(double mass, double lambda0) const override;
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
 
   private:
@@ -365,6 +371,7 @@ namespace wirefem::discrete
     /// of the chain (needed with friction).
     SelfContactTerm(const ContactLaw &law, double skin, int exclusion, int capacity = 0);
     const char *name() const override { return "self contact"; }
+    StabilityBound stability_bound(double mass, double lambda0) const override;
     void add_forces(Chain &chain, double dt, StepEnergy &energy) override;
     void commit() override;
     void save(std::ostream &out) const override;
