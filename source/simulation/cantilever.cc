@@ -18,6 +18,10 @@
 
 namespace wirefem::simulation
 {
+  // The result's fields in summary.json, named as the members.
+  NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CantileverResult, converged, tip_x, tip_y, tip_rotation, residual,
+                                     wall_time_s)
+
   namespace
   {
     /// shape.csv (s, x, y per node of the last equilibrium) and history.csv
@@ -78,12 +82,7 @@ namespace wirefem::simulation
     j["length"] = cl.length;
     j["end_force"] = {cl.end_force_x, cl.end_force_y};
     j["end_moment"] = cl.end_moment;
-    j["tip_x"] = result.tip_x;
-    j["tip_y"] = result.tip_y;
-    j["tip_rotation"] = result.tip_rotation;
-    j["residual"] = result.residual;
-    j["converged"] = result.converged;
-    j["wall_time_s"] = result.wall_time_s;
+    j.update(nlohmann::json(result));
     j["plastic_work"] = recorded.empty() ? 0.0 : recorded.back()[4];
     const auto &ledger = model->energies();
     j["energy"] = {{"bending", ledger.bending}, {"stretching", ledger.stretching}, {"shear", ledger.shear}};

@@ -18,6 +18,9 @@
 
 namespace wirefem::simulation
 {
+  // The result's fields in summary.json, named as the members.
+  NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CapstanResult, finished, wrap_angle, push_force, steps, wall_time_s)
+
   namespace
   {
     constexpr const char *series_header = "time,pushed,lead_slide,push_force,trailing_compression\n";
@@ -40,16 +43,12 @@ namespace wirefem::simulation
       nlohmann::json j;
       describe_run(j, model, "capstan");
       j["control"] = cs.velocity_control ? "velocity" : "force";
-      j["finished"] = result.finished;
-      j["wrap_angle"] = result.wrap_angle;
+      j.update(nlohmann::json(result));
       j["end_force"] = cs.end_force;
       j["mu_static"] = fr.wall_static_coefficient;
       j["mu_dynamic"] = fr.wall_dynamic_coefficient;
-      j["push_force"] = result.push_force;
       j["capstan_dynamic"] = cs.end_force * std::exp(fr.wall_dynamic_coefficient * result.wrap_angle);
       j["capstan_static"] = cs.end_force * std::exp(fr.wall_static_coefficient * result.wrap_angle);
-      j["steps"] = result.steps;
-      j["wall_time_s"] = result.wall_time_s;
       return j;
     }
 
