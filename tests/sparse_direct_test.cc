@@ -104,6 +104,13 @@ namespace
     EXPECT_EQ(lu.statistics().factorisations, 1u);
     EXPECT_EQ(lu.statistics().refactorisations, 2u);
     EXPECT_EQ(lu.statistics().solves, 3u);
+    // The fill is counted at full factorisations only: L and U hold at
+    // least A's entries and the diagonal twice; a rod's pattern, ordered
+    // by AMD, fills little.
+    const auto &st = lu.statistics();
+    EXPECT_EQ(st.matrix_entries, static_cast<double>(p.columns.size()));
+    EXPECT_GE(st.factor_entries, st.matrix_entries + p.n);
+    EXPECT_LT(st.factor_entries, 3.0 * st.matrix_entries);
   }
 
   TEST(SparseDirect, FallsBackToPivotingWhenTheKeptPivotsFail)

@@ -320,7 +320,8 @@ namespace wirefem::fem
     const auto &ls = impl->lu.statistics();
     out << fmt::format(
         "linear solves: {} (patterns analysed {}, full factorisations {}, refactorisations {}, "
-        "refactorisations redone for accuracy {})\n",
-        ls.solves, ls.analyses, ls.factorisations, ls.refactorisations, ls.inaccurate);
+        "refactorisations redone for accuracy {}; factors L + U {:.1f} times the matrix's entries)\n",
+        ls.solves, ls.analyses, ls.factorisations, ls.refactorisations, ls.inaccurate,
+        ls.matrix_entries > 0 ? ls.factor_entries / ls.matrix_entries : 0.0);
   }
 } // namespace wirefem::fem

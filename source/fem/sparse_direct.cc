@@ -41,13 +41,15 @@ namespace wirefem::fem
       if (symbolic)
         klu_free_symbolic(&symbolic, &common);
     }
-    bool full()
+    bool full(SparseDirect::Statistics &stats)
     {
       clear_numeric();
       last_full = true;
       numeric = klu_factor(row_start.data(), columns.data(), values.data(), symbolic, &common);
       if (!numeric || common.status != KLU_OK)
         return false;
+      stats.matrix_entries += static_cast<double>(columns.size());
+      stats.factor_entries += static_cast<double>(numeric->lnz) + static_cast<double>(numeric->unz);
       klu_rcond(symbolic, numeric, &common);
       rcond_full = common.rcond;
       return std::isfinite(common.rcond) && common.rcond > 0.0;
@@ -99,7 +101,7 @@ namespace wirefem::fem
           }
       }
     ++stats.factorisations;
-    return m.full();
+    return m.full(stats);
   }
 
   bool SparseDirect::solve(const std::vector<double> &b, std::vector<double> &x)
@@ -128,7 +130,7 @@ namespace wirefem::fem
       return finite;
     ++stats.inaccurate;
     ++stats.factorisations;
-    if (!m.full())
+    if (!m.full(stats))
       return false;
     x = b;
     return klu_tsolve(m.symbolic, m.numeric, m.n, 1, x.data(), &m.common) &&

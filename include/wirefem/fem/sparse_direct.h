@@ -43,6 +43,9 @@ namespace wirefem::fem
       unsigned long refactorisations = 0; ///< with the pivot order kept
       unsigned long solves = 0;
       unsigned long inaccurate = 0; ///< refactorisations redone for accuracy
+      /// Entries of the matrix and of its factors L + U, summed over the
+      /// full factorisations (their ratio is the mean fill).
+      double matrix_entries = 0.0, factor_entries = 0.0;
     };
     const Statistics &statistics() const { return stats; }
 
