@@ -91,7 +91,9 @@ namespace wirefem::discrete
     virtual const char *name() const = 0;
     /// This term's share of the stability limit for nodes of `mass` spaced
     /// lambda0; ChainModel sums the shares of all its terms, in the order
-    /// they were built. Terms without springs or dashpots add nothing.
+    /// they were built. The default adds nothing: terms without springs or
+    /// dashpots, and the clamp (ClampTerm), whose spring the cantilever's
+    /// step has never counted.
     virtual StabilityBound stability_bound(double /*mass*/, double /*lambda0*/) const { return {}; }
     virtual void add_forces(Chain &chain, double dt, StepEnergy &energy) = 0;
     virtual void commit() {}

@@ -262,6 +262,12 @@ namespace wirefem::scene
     double checkpoint_interval = 300.0; ///< wall seconds between checkpoints; 0: only on interruption
   };
 
+  /// Yield angle alpha_theta = kappa_theta * lambda_0 of the discrete model.
+  inline double yield_angle(const WireParameters &wire, const DiscreteParameters &discrete)
+  {
+    return wire.plasticity.yield_curvature * discrete.segment_length;
+  }
+
   /// The sections both models read: the set-up with its loading, the
   /// cavity, the wire and the contacts.
   struct PhysicsSections
@@ -289,9 +295,6 @@ namespace wirefem::scene
     /// scene with the same fingerprint.
     std::string fingerprint;
 
-    /// Yield angle alpha_theta = kappa_theta * lambda_0 of the discrete model.
-    double yield_angle() const { return wire.plasticity.yield_curvature * discrete.segment_length; }
-
     /// Whether bending is elastoplastic: plasticity enabled on a wire with
     /// bending stiffness, and not neutral (a yield angle below pi and a
     /// hardening slope below 1), unless neutral effects are kept. Both
@@ -300,7 +303,8 @@ namespace wirefem::scene
     {
       const auto &pl = wire.plasticity;
       return wire.bending_stiffness > 0.0 && pl.enabled &&
-             (keep_neutral_effects || (yield_angle() < M_PI && pl.hardening_slope < 1.0));
+             (keep_neutral_effects ||
+              (scene::yield_angle(wire, discrete) < M_PI && pl.hardening_slope < 1.0));
     }
   };
 
@@ -329,8 +333,7 @@ namespace wirefem::scene
       , discrete(s.discrete)
     {
     }
-    /// Yield angle alpha_theta = kappa_theta * lambda_0.
-    double yield_angle() const { return wire.plasticity.yield_curvature * discrete.segment_length; }
+    double yield_angle() const { return scene::yield_angle(wire, discrete); }
   };
 
   /// The rod FEM's view of a scene.
