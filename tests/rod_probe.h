@@ -48,6 +48,12 @@ namespace wirefem::fem
       return worst / largest;
     }
 
+    /// The linear solver's counts (factorisations, GMRES iterations).
+    static const SparseDirect::Statistics &linear_statistics(const RodModel &rod)
+    {
+      return rod.impl->lu.statistics();
+    }
+
     /// One step of the model that first checks the tangent at its
     /// predictor; returns the error (-1 if the step assembled nothing).
     static double step_checking_tangent(RodModel &rod)

@@ -1,6 +1,7 @@
 // The KLU wrapper of the rod FEM: solutions against a known answer, the
-// refactorisation path and its fall-back to a full factorisation, and a
-// singular matrix refused.
+// refactorisation path and its fall-back to a full factorisation, a
+// singular matrix refused, and GMRES on kept factors (solve_kept): to its
+// tolerance on a nearby matrix, with a factorisation when it is far.
 #include <wirefem/fem/sparse_direct.h>
 
 #include <gtest/gtest.h>
@@ -130,6 +131,63 @@ namespace
     EXPECT_NEAR(x[0], 1.0 - 1e-9 / 3.0, 1e-12);
     EXPECT_NEAR(x[1], 1.0, 1e-12);
     EXPECT_GE(lu.statistics().factorisations, 2u) << "the kept pivot order was used on a zero pivot";
+  }
+
+  double norm2(const std::vector<double> &a)
+  {
+    double s = 0.0;
+    for (const double v : a)
+      s += v * v;
+    return std::sqrt(s);
+  }
+
+  TEST(SparseDirect, KeptFactorsSolveANearbyMatrixToTheTolerance)
+  {
+    std::mt19937 gen(5);
+    const auto p = rod_pattern(300, gen);
+    SparseDirect lu;
+    lu.analyse(p.n, p.row_start, p.columns);
+    const auto v0 = values(p, gen);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<double> x_true(p.n), x;
+    for (auto &xi : x_true)
+      xi = u(gen);
+    // Without factors the first call factorises.
+    ASSERT_TRUE(lu.solve_kept(v0, multiply(p, v0, x_true), x, 1e-10, 8));
+    EXPECT_EQ(lu.statistics().kept_refactorised, 1u);
+    EXPECT_LT(max_error(x, x_true), 1e-11);
+    // A matrix 1% away: GMRES on v0's factors, the true residual below
+    // each tolerance asked for, in more iterations for a tighter one and
+    // without a factorisation.
+    auto v1 = v0;
+    for (auto &vi : v1)
+      vi *= 1.0 + 0.01 * u(gen);
+    const auto b = multiply(p, v1, x_true);
+    unsigned long iterations = lu.statistics().kept_iterations;
+    std::vector<unsigned long> used;
+    for (const double relative : {1e-4, 1e-8, 1e-12})
+      {
+        const double tol = relative * norm2(b);
+        ASSERT_TRUE(lu.solve_kept(v1, b, x, tol, 20)) << relative;
+        auto r = multiply(p, v1, x);
+        for (int i = 0; i < p.n; ++i)
+          r[i] = b[i] - r[i];
+        EXPECT_LE(norm2(r), tol) << relative;
+        EXPECT_GT(norm2(r), 1e-6 * tol) << "far below the tolerance: was it solved directly?";
+        used.push_back(lu.statistics().kept_iterations - iterations);
+        iterations = lu.statistics().kept_iterations;
+      }
+    EXPECT_EQ(lu.statistics().kept_refactorised, 1u);
+    EXPECT_EQ(lu.statistics().factorisations + lu.statistics().refactorisations, 1u);
+    EXPECT_LT(used[0], used[1]);
+    EXPECT_LT(used[1], used[2]);
+    // Too few iterations allowed for that tolerance: v1 is factorised and
+    // solved directly, and its factors are kept for the next call.
+    ASSERT_TRUE(lu.solve_kept(v1, b, x, 1e-12 * norm2(b), 1));
+    EXPECT_EQ(lu.statistics().kept_refactorised, 2u);
+    EXPECT_LT(max_error(x, x_true), 1e-11);
+    ASSERT_TRUE(lu.solve_kept(v1, b, x, 1e-12 * norm2(b), 1));
+    EXPECT_EQ(lu.statistics().kept_refactorised, 2u) << "the new factors were not kept";
   }
 
   TEST(SparseDirect, RefusesASingularMatrix)

@@ -2,12 +2,21 @@
 
 namespace wirefem::fem
 {
-  bool RodModel::Impl::solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x)
+  bool RodModel::Impl::solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x,
+                                    const double tolerance)
   {
-    return factorise_K() && solve_factorised(rhs, x);
+    if (tolerance <= 0.0)
+      return factorise_K() && solve_factorised(rhs, x);
+    gather_K();
+    lu_rhs.assign(rhs.begin(), rhs.end());
+    if (!lu.solve_kept(lu_values, lu_rhs, lu_solution, tolerance,
+                       static_cast<int>(scene.fem.krylov_iterations)))
+      return false;
+    std::copy(lu_solution.begin(), lu_solution.end(), x.begin());
+    return true;
   }
 
-  bool RodModel::Impl::factorise_K()
+  void RodModel::Impl::gather_K()
   {
     // K's values in storage order, row by row, as rebuild_sparsity numbered them.
     lu_stored.resize(lu_values.size());
@@ -17,6 +26,11 @@ namespace wirefem::fem
         lu_stored[k++] = it->value();
     for (std::size_t j = 0; j < lu_order.size(); ++j)
       lu_values[j] = lu_stored[lu_order[j]];
+  }
+
+  bool RodModel::Impl::factorise_K()
+  {
+    gather_K();
     return lu.factorise(lu_values);
   }
 

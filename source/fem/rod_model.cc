@@ -45,14 +45,25 @@ namespace wirefem::fem
       step = std::min(step, m.cap.t_end - m.t);
     while (true)
       {
-        bool ok = false;
-        try
+        auto attempt = [&] {
+          try
+            {
+              return m.solve_step(step);
+            }
+          catch (const dealii::ExceptionBase &)
+            {
+              return false;
+            }
+        };
+        bool ok = attempt();
+        if (!ok && m.scene.fem.kept_factors)
           {
-            ok = m.solve_step(step);
-          }
-        catch (const dealii::ExceptionBase &)
-          {
-            ok = false;
+            // Inexact linear solves may be what failed: the same step once
+            // more with a factorisation per iteration, before it is cut.
+            ++m.retried_steps;
+            m.exact_solves = true;
+            ok = attempt();
+            m.exact_solves = false;
           }
         if (ok)
           break;
@@ -317,6 +328,15 @@ namespace wirefem::fem
     out << impl->timer_stream.str();
     impl->timer_stream.str("");
     out << fmt::format("Newton step cuts: {}\n", impl->cuts);
+    if (impl->scene.fem.kept_factors)
+      {
+        const auto &ls = impl->lu.statistics();
+        out << fmt::format("GMRES on kept factors: {} solves, {:.2f} iterations each, {} refactorised; "
+                           "{} steps retried with refactorisation\n",
+                           ls.kept_solves,
+                           ls.kept_solves > 0 ? double(ls.kept_iterations) / double(ls.kept_solves) : 0.0,
+                           ls.kept_refactorised, impl->retried_steps);
+      }
     const auto &ls = impl->lu.statistics();
     out << fmt::format(
         "linear solves: {} (patterns analysed {}, full factorisations {}, refactorisations {}, "

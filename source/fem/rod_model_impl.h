@@ -167,9 +167,17 @@ namespace wirefem::fem
     std::vector<int> lu_order; ///< entry of K (storage order) for each entry of the sorted CSR
     std::vector<double> lu_values;
     std::vector<double> lu_stored, lu_rhs, lu_solution; ///< solve_linear's scratch
-    /// Factorises K and solves K x = rhs; false when K is singular.
-    bool solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
+    /// Solves K x = rhs; false when K is singular. With a tolerance > 0,
+    /// by GMRES on the kept factors to |rhs - K x|_2 <= tolerance
+    /// (SparseDirect::solve_kept); otherwise K is factorised.
+    bool solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x, double tolerance = 0.0);
+    /// K's values into lu_values, in the sorted CSR order KLU reads.
+    void gather_K();
     bool factorise_K();
+    /// Set while a step that failed with FEM/Linear solver = kept factors
+    /// is tried again with a factorisation per iteration.
+    bool exact_solves = false;
+    unsigned long retried_steps = 0;
     /// Solves with the factors of the last factorise_K().
     bool solve_factorised(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
     int sp_first = -1, sp_last = -1;

@@ -191,7 +191,13 @@ namespace wirefem::fem
           rhs[i] = -(e.residual[lo + i] + alpha_f * f_old[lo + i]);
         {
           dealii::TimerOutput::Scope ts(timer, "linear solve");
-          if (!solve_linear(rhs, dx))
+          // Kept factors: an inexact Newton step, the linear residual a
+          // small fraction of the nonlinear one, and below the tolerance.
+          const double linear_tolerance =
+              scene.fem.kept_factors && !exact_solves
+                  ? std::max(scene.fem.linear_tolerance * rhs.l2_norm(), 0.5 * tol)
+                  : 0.0;
+          if (!solve_linear(rhs, dx, linear_tolerance))
             return false;
           ++newton_iterations;
         }

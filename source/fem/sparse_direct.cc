@@ -54,6 +54,126 @@ namespace wirefem::fem
       rcond_full = common.rcond;
       return std::isfinite(common.rcond) && common.rcond > 0.0;
     }
+
+    // GMRES's Krylov basis, the preconditioned directions and the
+    // Hessenberg matrix, kept between calls (no allocation per solve).
+    std::vector<double> basis, directions, hessenberg, cosines, sines, rotated;
+
+    void multiply(const std::vector<double> &a, const double *x, double *y) const
+    {
+      for (int i = 0; i < n; ++i)
+        {
+          double s = 0.0;
+          for (int k = row_start[i]; k < row_start[i + 1]; ++k)
+            s += a[k] * x[columns[k]];
+          y[i] = s;
+        }
+    }
+    double dot(const double *a, const double *b) const
+    {
+      double s = 0.0;
+      for (int i = 0; i < n; ++i)
+        s += a[i] * b[i];
+      return s;
+    }
+
+    /// GMRES on A (values a) from x = 0, right preconditioned by the kept
+    /// factors, with modified Gram-Schmidt and Givens rotations; true when
+    /// |b - A x|_2 <= tolerance, checked on the true residual at the end.
+    bool gmres(const std::vector<double> &a, const std::vector<double> &b, std::vector<double> &x,
+               const double tolerance, const int m, SparseDirect::Statistics &stats)
+    {
+      x.assign(n, 0.0);
+      const double beta = std::sqrt(dot(b.data(), b.data()));
+      if (!std::isfinite(beta))
+        return false;
+      if (beta <= tolerance)
+        return true;
+      basis.resize(static_cast<std::size_t>(m + 1) * n);
+      directions.resize(static_cast<std::size_t>(m) * n);
+      hessenberg.assign(static_cast<std::size_t>(m + 1) * m, 0.0);
+      cosines.assign(m, 0.0);
+      sines.assign(m, 0.0);
+      rotated.assign(m + 1, 0.0);
+      auto v = [&](int j) { return basis.data() + static_cast<std::size_t>(j) * n; };
+      auto z = [&](int j) { return directions.data() + static_cast<std::size_t>(j) * n; };
+      auto h = [&](int i, int j) -> double & {
+        return hessenberg[static_cast<std::size_t>(j) * (m + 1) + i];
+      };
+      for (int i = 0; i < n; ++i)
+        v(0)[i] = b[i] / beta;
+      rotated[0] = beta;
+      int k = 0;
+      bool converged = false;
+      for (int j = 0; j < m && !converged; ++j)
+        {
+          std::copy(v(j), v(j) + n, z(j));
+          if (!klu_tsolve(symbolic, numeric, n, 1, z(j), &common))
+            return false;
+          double *w = v(j + 1);
+          multiply(a, z(j), w);
+          for (int i = 0; i <= j; ++i)
+            {
+              h(i, j) = dot(w, v(i));
+              for (int l = 0; l < n; ++l)
+                w[l] -= h(i, j) * v(i)[l];
+            }
+          const double wn = std::sqrt(dot(w, w));
+          h(j + 1, j) = wn;
+          for (int i = 0; i < j; ++i)
+            {
+              const double t = cosines[i] * h(i, j) + sines[i] * h(i + 1, j);
+              h(i + 1, j) = -sines[i] * h(i, j) + cosines[i] * h(i + 1, j);
+              h(i, j) = t;
+            }
+          const double r = std::hypot(h(j, j), h(j + 1, j));
+          if (!std::isfinite(r) || r == 0.0)
+            return false;
+          cosines[j] = h(j, j) / r;
+          sines[j] = h(j + 1, j) / r;
+          h(j, j) = r;
+          h(j + 1, j) = 0.0;
+          rotated[j + 1] = -sines[j] * rotated[j];
+          rotated[j] *= cosines[j];
+          ++stats.kept_iterations;
+          k = j + 1;
+          converged = std::abs(rotated[j + 1]) <= tolerance || wn == 0.0;
+          if (!converged)
+            for (int l = 0; l < n; ++l)
+              w[l] /= wn;
+        }
+      return converged && solution(a, b, x, tolerance, k, m);
+    }
+
+    /// x = sum y_j z_j with y = H^{-1} g from GMRES's first k iterations;
+    /// true when the true residual |b - A x|_2 is within the tolerance.
+    bool solution(const std::vector<double> &a, const std::vector<double> &b, std::vector<double> &x,
+                  const double tolerance, const int k, const int m)
+    {
+      auto z = [&](int j) { return directions.data() + static_cast<std::size_t>(j) * n; };
+      auto h = [&](int i, int j) { return hessenberg[static_cast<std::size_t>(j) * (m + 1) + i]; };
+      std::vector<double> &y = cosines; // no longer needed
+      for (int i = k - 1; i >= 0; --i)
+        {
+          double s = rotated[i];
+          for (int j = i + 1; j < k; ++j)
+            s -= h(i, j) * y[j];
+          y[i] = s / h(i, i);
+        }
+      for (int j = 0; j < k; ++j)
+        for (int l = 0; l < n; ++l)
+          x[l] += y[j] * z(j)[l];
+      // The true residual, in the first basis vector's storage.
+      double *res = basis.data();
+      multiply(a, x.data(), res);
+      double rr = 0.0;
+      for (int i = 0; i < n; ++i)
+        {
+          res[i] = b[i] - res[i];
+          rr += res[i] * res[i];
+        }
+      return std::isfinite(rr) && std::sqrt(rr) <= tolerance;
+    }
   };
 
   SparseDirect::SparseDirect()
@@ -102,6 +222,19 @@ namespace wirefem::fem
       }
     ++stats.factorisations;
     return m.full(stats);
+  }
+
+  bool SparseDirect::solve_kept(const std::vector<double> &values, const std::vector<double> &b,
+                                std::vector<double> &x, const double tolerance, const int max_iterations)
+  {
+    auto &m = *impl;
+    if (!m.symbolic || values.size() != m.columns.size() || static_cast<int>(b.size()) != m.n)
+      throw std::logic_error("SparseDirect::solve_kept before analyse, or with values of another pattern");
+    ++stats.kept_solves;
+    if (m.numeric && max_iterations > 0 && m.gmres(values, b, x, tolerance, max_iterations, stats))
+      return true;
+    ++stats.kept_refactorised;
+    return factorise(values) && solve(b, x);
   }
 
   bool SparseDirect::solve(const std::vector<double> &b, std::vector<double> &x)

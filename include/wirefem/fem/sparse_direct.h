@@ -4,6 +4,15 @@
 // one (KLU's refactorisation), falling back to a full factorisation when
 // the result is not accurate. The matrix is given by rows (CSR), the
 // values in the pattern's order. SuiteSparse stays in the .cc file.
+//
+// solve_kept() solves a matrix of the same pattern without factorising it:
+// GMRES on it, preconditioned (on the right, so that the residual it
+// minimises is the true one) by the kept factors of an earlier matrix; a
+// matrix that has drifted too far from those factors for GMRES to converge
+// in a few iterations is factorised and solved directly, and its factors
+// are kept in turn. Newton's tangents change little from one iteration to
+// the next, and a solve with factors costs a small fraction of a
+// factorisation.
 #pragma once
 
 #include <memory>
@@ -36,13 +45,24 @@ namespace wirefem::fem
     /// false when the matrix is singular or the solution is not finite.
     bool solve(const std::vector<double> &b, std::vector<double> &x);
 
+    /// Solves A x = b, A given by these values, to |b - A x|_2 <= tolerance
+    /// by GMRES (at most max_iterations) preconditioned by the kept factors;
+    /// without factors, or when GMRES does not get there, factorises A and
+    /// solves as solve() does. Returns false when A is singular or x is not
+    /// finite.
+    bool solve_kept(const std::vector<double> &values, const std::vector<double> &b, std::vector<double> &x,
+                    double tolerance, int max_iterations);
+
     struct Statistics
     {
       unsigned long analyses = 0;
       unsigned long factorisations = 0;   ///< full, with pivoting
       unsigned long refactorisations = 0; ///< with the pivot order kept
       unsigned long solves = 0;
-      unsigned long inaccurate = 0; ///< refactorisations redone for accuracy
+      unsigned long inaccurate = 0;        ///< refactorisations redone for accuracy
+      unsigned long kept_solves = 0;       ///< solve_kept() calls
+      unsigned long kept_iterations = 0;   ///< GMRES iterations of solve_kept()
+      unsigned long kept_refactorised = 0; ///< solve_kept() calls that factorised
       /// Entries of the matrix and of its factors L + U, summed over the
       /// full factorisations (their ratio is the mean fill).
       double matrix_entries = 0.0, factor_entries = 0.0;
