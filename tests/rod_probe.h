@@ -54,6 +54,10 @@ namespace wirefem::fem
       return rod.impl->lu.statistics();
     }
 
+    /// Steps that failed with kept factors and were tried again with an LU
+    /// per Newton iteration.
+    static unsigned long retried_steps(const RodModel &rod) { return rod.impl->retried_steps; }
+
     /// One step of the model that first checks the tangent at its
     /// predictor; returns the error (-1 if the step assembled nothing).
     static double step_checking_tangent(RodModel &rod)

@@ -56,7 +56,7 @@ namespace wirefem::fem
             }
         };
         bool ok = attempt();
-        if (!ok && m.scene.fem.kept_factors)
+        if (!ok && m.kept_factors)
           {
             // Inexact linear solves may be what failed: the same step once
             // more with a factorisation per iteration, before it is cut.
@@ -328,7 +328,7 @@ namespace wirefem::fem
     out << impl->timer_stream.str();
     impl->timer_stream.str("");
     out << fmt::format("Newton step cuts: {}\n", impl->cuts);
-    if (impl->scene.fem.kept_factors)
+    if (impl->kept_factors)
       {
         const auto &ls = impl->lu.statistics();
         out << fmt::format("GMRES on kept factors: {} solves, {:.2f} iterations each, {} refactorised; "

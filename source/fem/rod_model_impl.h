@@ -174,6 +174,12 @@ namespace wirefem::fem
     /// K's values into lu_values, in the sorted CSR order KLU reads.
     void gather_K();
     bool factorise_K();
+    /// FEM/Linear solver = kept factors, on the injection set-up. The clamp
+    /// and capstan loadings refactorise every tangent: their systems are
+    /// small, and the slender cantilever's Newton tolerance is near
+    /// round-off, where the exact last update of a direct solve is what
+    /// keeps its convergence order.
+    bool kept_factors = false;
     /// Set while a step that failed with FEM/Linear solver = kept factors
     /// is tried again with a factorisation per iteration.
     bool exact_solves = false;

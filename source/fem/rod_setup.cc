@@ -217,6 +217,7 @@ namespace wirefem::fem
     const auto integrator = clamped || capstan ? scene::Integrator::quasi_static : s.fem.integrator;
     inertia = integrator != scene::Integrator::quasi_static;
     newton_tolerance = s.fem.newton_tolerance * w.axial_stiffness;
+    kept_factors = s.fem.kept_factors && !clamped && !capstan;
     if (clamped)
       {
         force_scale = s.cantilever.force_scale(w.bending_stiffness);

@@ -192,10 +192,10 @@ namespace wirefem::fem
         {
           dealii::TimerOutput::Scope ts(timer, "linear solve");
           // Kept factors: an inexact Newton step, the linear residual a
-          // small fraction of the nonlinear one, and below the tolerance.
+          // small fraction of the nonlinear one, or of the tolerance.
           const double linear_tolerance =
-              scene.fem.kept_factors && !exact_solves
-                  ? std::max(scene.fem.linear_tolerance * rhs.l2_norm(), 0.5 * tol)
+              kept_factors && !exact_solves
+                  ? std::max(scene.fem.linear_tolerance * rhs.l2_norm(), scene.fem.linear_floor * tol)
                   : 0.0;
           if (!solve_linear(rhs, dx, linear_tolerance))
             return false;

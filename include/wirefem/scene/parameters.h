@@ -238,8 +238,9 @@ namespace wirefem::scene
     double minimum_time_step = 1e-7;
     double newton_tolerance = 1e-8; ///< on the residual norm relative to the force scale
     unsigned int maximum_iterations = 15;
-    bool kept_factors = true;          ///< GMRES on kept LU factors instead of an LU per iteration
+    bool kept_factors = false;          ///< GMRES on kept LU factors instead of an LU per iteration
     double linear_tolerance = 1e-9;     ///< GMRES's, relative to the Newton residual
+    double linear_floor = 0.5;          ///< GMRES's, relative to the Newton tolerance
     unsigned int krylov_iterations = 8; ///< GMRES iterations before a refactorisation
     bool spring_friction = false;       ///< the discrete model's friction law (capstan only)
     /// eta_a (force time): axial dashpot N_v = eta_a d(eps)/dt; from the
