@@ -240,7 +240,7 @@ namespace wirefem::scene
     unsigned int maximum_iterations = 15;
     bool kept_factors = false;          ///< GMRES on kept LU factors instead of an LU per iteration
     double linear_tolerance = 1e-9;     ///< GMRES's, relative to the Newton residual
-    double linear_floor = 0.5;          ///< GMRES's, relative to the Newton tolerance
+    double linear_floor = 1e-3;         ///< GMRES's, relative to the Newton tolerance
     unsigned int krylov_iterations = 8; ///< GMRES iterations before a refactorisation
     bool spring_friction = false;       ///< the discrete model's friction law (capstan only)
     /// eta_a (force time): axial dashpot N_v = eta_a d(eps)/dt; from the
