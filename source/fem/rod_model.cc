@@ -45,25 +45,23 @@ namespace wirefem::fem
       step = std::min(step, m.cap.t_end - m.t);
     while (true)
       {
-        auto attempt = [&] {
+        auto attempt = [&](const bool kept) {
           try
             {
-              return m.solve_step(step);
+              return m.solve_step(step, kept);
             }
           catch (const dealii::ExceptionBase &)
             {
               return false;
             }
         };
-        bool ok = attempt();
+        bool ok = attempt(m.kept_factors);
         if (!ok && m.kept_factors)
           {
             // Inexact linear solves may be what failed: the same step once
             // more with a factorisation per iteration, before it is cut.
             ++m.retried_steps;
-            m.exact_solves = true;
-            ok = attempt();
-            m.exact_solves = false;
+            ok = attempt(false);
           }
         if (ok)
           break;
@@ -328,16 +326,13 @@ namespace wirefem::fem
     out << impl->timer_stream.str();
     impl->timer_stream.str("");
     out << fmt::format("Newton step cuts: {}\n", impl->cuts);
-    if (impl->kept_factors)
-      {
-        const auto &ls = impl->lu.statistics();
-        out << fmt::format("GMRES on kept factors: {} solves, {:.2f} iterations each, {} refactorised; "
-                           "{} steps retried with refactorisation\n",
-                           ls.kept_solves,
-                           ls.kept_solves > 0 ? double(ls.kept_iterations) / double(ls.kept_solves) : 0.0,
-                           ls.kept_refactorised, impl->retried_steps);
-      }
     const auto &ls = impl->lu.statistics();
+    if (impl->kept_factors)
+      out << fmt::format("GMRES on kept factors: {} solves, {:.2f} iterations each, {} refactorised; "
+                         "{} steps retried with refactorisation\n",
+                         ls.kept_solves,
+                         ls.kept_solves > 0 ? double(ls.kept_iterations) / double(ls.kept_solves) : 0.0,
+                         ls.kept_refactorised, impl->retried_steps);
     out << fmt::format(
         "linear solves: {} (patterns analysed {}, full factorisations {}, refactorisations {}, "
         "refactorisations redone for accuracy {}; factors L + U {:.1f} times the matrix's entries)\n",

@@ -180,9 +180,8 @@ namespace wirefem::fem
     /// round-off, where the exact last update of a direct solve is what
     /// keeps its convergence order.
     bool kept_factors = false;
-    /// Set while a step that failed with FEM/Linear solver = kept factors
-    /// is tried again with a factorisation per iteration.
-    bool exact_solves = false;
+    /// Steps that failed with kept factors and were tried again with a
+    /// factorisation per iteration.
     unsigned long retried_steps = 0;
     /// Solves with the factors of the last factorise_K().
     bool solve_factorised(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
@@ -357,8 +356,9 @@ namespace wirefem::fem
     dealii::FullMatrix<double> scratch_block;                  ///< add_matrix
     void rebuild_sparsity(int first, int last);
     /// One implicit step: predictor, then Newton's iteration; commits and
-    /// returns true when it converges.
-    bool solve_step(double step);
+    /// returns true when it converges. kept: the linear solves by GMRES on
+    /// the kept factors (FEM/Linear solver), otherwise an LU per iteration.
+    bool solve_step(double step, bool kept = false);
     double free_residual_norm(const Evaluation &ev, int first, int last) const;
     /// The residual norms of the last step's Newton iterations, for the
     /// WIREFEM_NEWTON_LOG lines.

@@ -143,7 +143,7 @@ namespace wirefem::fem
     return free_residual_norm(e, rq.first, rq.last);
   }
 
-  bool RodModel::Impl::solve_step(const double step)
+  bool RodModel::Impl::solve_step(const double step, const bool kept)
   {
     const double t1 = t + step;
     wall_time = t1;
@@ -194,9 +194,7 @@ namespace wirefem::fem
           // Kept factors: an inexact Newton step, the linear residual a
           // small fraction of the nonlinear one, or of the tolerance.
           const double linear_tolerance =
-              kept_factors && !exact_solves
-                  ? std::max(scene.fem.linear_tolerance * rhs.l2_norm(), scene.fem.linear_floor * tol)
-                  : 0.0;
+              kept ? std::max(scene.fem.linear_tolerance * rhs.l2_norm(), scene.fem.linear_floor * tol) : 0.0;
           if (!solve_linear(rhs, dx, linear_tolerance))
             return false;
           ++newton_iterations;

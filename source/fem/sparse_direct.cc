@@ -58,6 +58,13 @@ namespace wirefem::fem
     // GMRES's Krylov basis, the preconditioned directions and the
     // Hessenberg matrix, kept between calls (no allocation per solve).
     std::vector<double> basis, directions, hessenberg, cosines, sines, rotated;
+    int restart = 0; ///< the most GMRES iterations of this solve: columns of the Hessenberg matrix
+    double *v(const int j) { return basis.data() + static_cast<std::size_t>(j) * n; }
+    double *z(const int j) { return directions.data() + static_cast<std::size_t>(j) * n; }
+    double &h(const int i, const int j)
+    {
+      return hessenberg[static_cast<std::size_t>(j) * (restart + 1) + i];
+    }
 
     void multiply(const std::vector<double> &a, const double *x, double *y) const
     {
@@ -89,17 +96,13 @@ namespace wirefem::fem
         return false;
       if (beta <= tolerance)
         return true;
+      restart = m;
       basis.resize(static_cast<std::size_t>(m + 1) * n);
       directions.resize(static_cast<std::size_t>(m) * n);
       hessenberg.assign(static_cast<std::size_t>(m + 1) * m, 0.0);
       cosines.assign(m, 0.0);
       sines.assign(m, 0.0);
       rotated.assign(m + 1, 0.0);
-      auto v = [&](int j) { return basis.data() + static_cast<std::size_t>(j) * n; };
-      auto z = [&](int j) { return directions.data() + static_cast<std::size_t>(j) * n; };
-      auto h = [&](int i, int j) -> double & {
-        return hessenberg[static_cast<std::size_t>(j) * (m + 1) + i];
-      };
       for (int i = 0; i < n; ++i)
         v(0)[i] = b[i] / beta;
       rotated[0] = beta;
@@ -142,16 +145,14 @@ namespace wirefem::fem
             for (int l = 0; l < n; ++l)
               w[l] /= wn;
         }
-      return converged && solution(a, b, x, tolerance, k, m);
+      return converged && solution(a, b, x, tolerance, k);
     }
 
     /// x = sum y_j z_j with y = H^{-1} g from GMRES's first k iterations;
     /// true when the true residual |b - A x|_2 is within the tolerance.
     bool solution(const std::vector<double> &a, const std::vector<double> &b, std::vector<double> &x,
-                  const double tolerance, const int k, const int m)
+                  const double tolerance, const int k)
     {
-      auto z = [&](int j) { return directions.data() + static_cast<std::size_t>(j) * n; };
-      auto h = [&](int i, int j) { return hessenberg[static_cast<std::size_t>(j) * (m + 1) + i]; };
       std::vector<double> &y = cosines; // no longer needed
       for (int i = k - 1; i >= 0; --i)
         {
@@ -164,7 +165,7 @@ namespace wirefem::fem
         for (int l = 0; l < n; ++l)
           x[l] += y[j] * z(j)[l];
       // The true residual, in the first basis vector's storage.
-      double *res = basis.data();
+      double *res = v(0);
       multiply(a, x.data(), res);
       double rr = 0.0;
       for (int i = 0; i < n; ++i)
