@@ -774,6 +774,24 @@ namespace
     return scene::read_scene("", o);
   }
 
+  /// The elastoplastic wire with friction, wall and self contact of the
+  /// comparisons between two solver settings, with one more key.
+  scene::Scene contact_scene(const std::string &key)
+  {
+    return fem_scene({"Wire/Plasticity/Yield curvature=0.05", "Contact/Friction/Static coefficient=0.5", key});
+  }
+
+  /// The largest distance between corresponding nodes of two wires (d).
+  double largest_distance(const fem::RodModel &m1, const fem::RodModel &m2)
+  {
+    const auto a = m1.wire_state(), b = m2.wire_state();
+    EXPECT_EQ(a.points.size(), b.points.size());
+    double worst = 0.0;
+    for (std::size_t k = 0; k < std::min(a.points.size(), b.points.size()); ++k)
+      worst = std::max(worst, std::hypot(a.points[k].x - b.points[k].x, a.points[k].y - b.points[k].y));
+    return worst;
+  }
+
   TEST(RodModel, NewtonConvergesQuadratically)
   {
     // Order estimates log(e_{k+1}/e_k) / log(e_k/e_{k-1}) from the last three
@@ -826,26 +844,19 @@ namespace
   {
     // The same elastoplastic run with friction, wall and self contact, once
     // with an LU of every tangent and once with GMRES on kept factors. Each
-    // GMRES solve reaches 1e-9 of Newton's residual (or half its
+    // GMRES solve reaches 1e-9 of Newton's residual (or 1e-3 of its
     // tolerance), so both runs take the same steps and their wires agree to
     // far less than the contact overlaps; GMRES factorises a fraction as
-    // often (81 against 1,852 times here).
-    const std::vector<std::string> keys{"Wire/Plasticity/Yield curvature=0.05",
-                                        "Contact/Friction/Static coefficient=0.5"};
-    auto lu_keys = keys, kept_keys = keys;
-    lu_keys.push_back("FEM/Linear solver=refactorise");
-    kept_keys.push_back("FEM/Linear solver=kept factors");
-    fem::RodModel lu(fem_scene(lu_keys)), kept(fem_scene(kept_keys));
+    // often (95 against 1,614 times here).
+    fem::RodModel lu(contact_scene("FEM/Linear solver=refactorise"));
+    fem::RodModel kept(contact_scene("FEM/Linear solver=kept factors"));
     double worst = 0.0;
     while (lu.injected_length() < 30.0)
       {
         lu.step();
         kept.step();
         ASSERT_EQ(lu.time(), kept.time()) << "the runs took different steps at step " << lu.n_steps();
-        const auto a = lu.wire_state(), b = kept.wire_state();
-        ASSERT_EQ(a.points.size(), b.points.size());
-        for (std::size_t k = 0; k < a.points.size(); ++k)
-          worst = std::max(worst, std::hypot(a.points[k].x - b.points[k].x, a.points[k].y - b.points[k].y));
+        worst = std::max(worst, largest_distance(lu, kept));
       }
     EXPECT_GT(lu.report().n_self_contacts + lu.report().n_wall_contacts, 0);
     // GMRES leaves 1e-3 of the Newton tolerance (1e-8 EA) in the residual:
@@ -862,6 +873,77 @@ namespace
     std::cout << "largest distance " << worst << " d; factorisations " << factorised(s_lu) << " against "
               << factorised(s_kept) << " with " << s_kept.kept_iterations << " GMRES iterations in "
               << s_kept.kept_solves << " solves\n";
+  }
+
+  TEST(RodModel, TheVelocityPredictorReachesTheSameWireInFewerIterations)
+  {
+    // The predictor is only Newton's first guess: both runs converge to
+    // the same states wherever they reach the same time (each to the
+    // Newton tolerance, 1e-8 EA), and the constant-velocity guess, which
+    // does not extrapolate the short-lived accelerations of contact
+    // events, needs fewer iterations.
+    fem::RodModel acc(contact_scene("FEM/Predictor=constant acceleration"));
+    fem::RodModel vel(contact_scene("FEM/Predictor=constant velocity"));
+    std::size_t its_acc = 0, its_vel = 0;
+    int compared = 0;
+    double worst = 0.0;
+    while (acc.injected_length() < 30.0)
+      {
+        // The one behind steps; the runs may cut different steps.
+        if (vel.time() < acc.time())
+          {
+            vel.step();
+            its_vel += vel.newton_history().size();
+          }
+        else
+          {
+            acc.step();
+            its_acc += acc.newton_history().size();
+          }
+        if (acc.time() != vel.time())
+          continue;
+        worst = std::max(worst, largest_distance(acc, vel));
+        ++compared;
+      }
+    EXPECT_GT(acc.report().n_self_contacts + acc.report().n_wall_contacts, 0);
+    EXPECT_GT(compared, 500) << "states at equal times";
+    // A wrong predictor term in the converged state (a step's motion is
+    // 0.025 d) or a different trajectory would show at 1e-6.
+    EXPECT_LT(worst, 1e-6) << "largest distance between the two wires (d)";
+    EXPECT_LT(its_vel, its_acc) << "Newton iterations (with the residual evaluations of the predictors)";
+    std::cout << "largest distance " << worst << " d over " << compared << " states; Newton iterations "
+              << its_acc << " against " << its_vel << "\n";
+  }
+
+  TEST(RodModel, OverlapGrowthCutsTheStepsThatCrossAnImpact)
+  {
+    // The largest growth of the largest overlap within one step, over the
+    // steps longer than 1/16 of the cap (the control's floor), with and
+    // without FEM/Overlap growth; the same run otherwise.
+    const double limit = 0.004;
+    const auto run = [](const std::string &growth) {
+      fem::RodModel m(fem_scene({"Wire/Plasticity/Yield curvature=0.05", "FEM/Overlap growth=" + growth}));
+      const double floor = fem::RodModelProbe::step_cap(m) / 16;
+      double before = 0.0, worst = 0.0;
+      while (m.injected_length() < 30.0)
+        {
+          const double t0 = m.time();
+          m.step();
+          const double overlap = m.report().max_penetration;
+          if (m.time() - t0 > floor * (1 + 1e-12))
+            worst = std::max(worst, overlap - before);
+          before = overlap;
+        }
+      return std::make_pair(worst, fem::RodModelProbe::overlap_cuts(m));
+    };
+    const auto [free_growth, free_cuts] = run("0");
+    const auto [growth, cuts] = run(std::to_string(limit));
+    EXPECT_EQ(free_cuts, 0u);
+    EXPECT_GT(free_growth, 2 * limit) << "no impact in the run to test the control on";
+    EXPECT_LE(growth, limit);
+    EXPECT_GT(cuts, 0u);
+    std::cout << "largest overlap growth in a step: " << free_growth << " d without the control, " << growth
+              << " d with " << limit << " d (" << cuts << " steps cut)\n";
   }
 
   TEST(RodModel, AStepThatFailsWithInexactSolvesIsRetriedWithAnLUBeforeItIsCut)

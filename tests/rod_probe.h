@@ -58,6 +58,11 @@ namespace wirefem::fem
     /// per Newton iteration.
     static unsigned long retried_steps(const RodModel &rod) { return rod.impl->retried_steps; }
 
+    /// Steps cut because their largest overlap grew by more than
+    /// FEM/Overlap growth, and the step cap they are measured against.
+    static unsigned long overlap_cuts(const RodModel &rod) { return rod.impl->overlap_cuts; }
+    static double step_cap(const RodModel &rod) { return rod.impl->dt_max; }
+
     /// One step of the model that first checks the tangent at its
     /// predictor; returns the error (-1 if the step assembled nothing).
     static double step_checking_tangent(RodModel &rod)

@@ -14,7 +14,7 @@ namespace wirefem::fem
       {
         // Without inertia, dashpots or friction the step length does not
         // enter the equilibrium.
-        ok = solve_step(1.0);
+        ok = solve_step(1.0) == StepOutcome::converged;
       }
     catch (const dealii::ExceptionBase &)
       {

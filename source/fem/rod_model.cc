@@ -45,6 +45,7 @@ namespace wirefem::fem
       step = std::min(step, m.cap.t_end - m.t);
     while (true)
       {
+        using Outcome = Impl::StepOutcome;
         auto attempt = [&](const bool kept) {
           try
             {
@@ -52,19 +53,25 @@ namespace wirefem::fem
             }
           catch (const dealii::ExceptionBase &)
             {
-              return false;
+              return Outcome::not_converged;
             }
         };
-        bool ok = attempt(m.kept_factors);
-        if (!ok && m.kept_factors)
+        auto outcome = attempt(m.kept_factors);
+        if (outcome == Outcome::not_converged && m.kept_factors)
           {
             // Inexact linear solves may be what failed: the same step once
             // more with a factorisation per iteration, before it is cut.
             ++m.retried_steps;
-            ok = attempt(false);
+            outcome = attempt(false);
           }
-        if (ok)
+        if (outcome == Outcome::converged)
           break;
+        if (outcome == Outcome::overlap_grew)
+          {
+            ++m.overlap_cuts;
+            step *= 0.5;
+            continue;
+          }
         ++m.cuts;
         if (std::getenv("WIREFEM_NEWTON_LOG"))
           std::cerr << fmt::format("t = {:.5g}: step {:.3g} cut; residuals{}\n", m.t, step,
@@ -278,6 +285,8 @@ namespace wirefem::fem
     core::write_raw(out, m.dt);
     core::write_raw(out, m.steps);
     core::write_raw(out, m.cuts);
+    core::write_raw(out, m.overlap_cuts);
+    core::write_raw(out, m.last_report);
     core::write_raw(out, m.first_free);
     core::write_raw(out, m.last_free);
     core::write_raw(out, m.ledger);
@@ -306,6 +315,8 @@ namespace wirefem::fem
     m.dt = core::read_raw<double>(in);
     m.steps = core::read_raw<unsigned long>(in);
     m.cuts = core::read_raw<unsigned long>(in);
+    m.overlap_cuts = core::read_raw<unsigned long>(in);
+    m.last_report = core::read_raw<core::StepReport>(in);
     m.first_free = core::read_raw<int>(in);
     m.last_free = core::read_raw<int>(in);
     m.ledger = core::read_raw<core::EnergyLedger>(in);
@@ -326,6 +337,8 @@ namespace wirefem::fem
     out << impl->timer_stream.str();
     impl->timer_stream.str("");
     out << fmt::format("Newton step cuts: {}\n", impl->cuts);
+    if (impl->overlap_growth > 0)
+      out << fmt::format("steps cut for overlap growth (FEM/Overlap growth): {}\n", impl->overlap_cuts);
     const auto &ls = impl->lu.statistics();
     if (impl->kept_factors)
       out << fmt::format("GMRES on kept factors: {} solves, {:.2f} iterations each, {} refactorised; "

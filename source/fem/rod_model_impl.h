@@ -148,6 +148,9 @@ namespace wirefem::fem
     std::vector<PointState> qp;
     double t = 0, dt = 0, dt_max = 0;
     unsigned long steps = 0, cuts = 0;
+    /// FEM/Overlap growth (injection set-up; 0: off) and the steps cut for it.
+    double overlap_growth = 0;
+    unsigned long overlap_cuts = 0;
     unsigned long newton_iterations = 0; ///< linear solves of Newton's method in all
     int first_free = 0, last_free = 0;   // free nodes [first, last)
     /// The channels push the wire deeper than `hold` inside them (those nodes
@@ -174,6 +177,8 @@ namespace wirefem::fem
     /// K's values into lu_values, in the sorted CSR order KLU reads.
     void gather_K();
     bool factorise_K();
+    /// FEM/Predictor = constant velocity: Newton starts from u + h v.
+    bool velocity_predictor = false;
     /// FEM/Linear solver = kept factors, on the injection set-up. The clamp
     /// and capstan loadings refactorise every tangent: their systems are
     /// small, and the slender cantilever's Newton tolerance is near
@@ -355,10 +360,20 @@ namespace wirefem::fem
     std::vector<int> scratch_pick;                             ///< add_matrix
     dealii::FullMatrix<double> scratch_block;                  ///< add_matrix
     void rebuild_sparsity(int first, int last);
-    /// One implicit step: predictor, then Newton's iteration; commits and
-    /// returns true when it converges. kept: the linear solves by GMRES on
-    /// the kept factors (FEM/Linear solver), otherwise an LU per iteration.
-    bool solve_step(double step, bool kept = false);
+    /// How an implicit step ended: committed, Newton failed, or converged
+    /// to a state whose largest overlap grew by more than FEM/Overlap
+    /// growth (not committed).
+    enum class StepOutcome
+    {
+      converged,
+      not_converged,
+      overlap_grew
+    };
+    /// One implicit step: predictor, then Newton's iteration; commits when
+    /// it converges (and the overlap test passes). kept: the linear solves
+    /// by GMRES on the kept factors (FEM/Linear solver), otherwise an LU
+    /// per iteration.
+    StepOutcome solve_step(double step, bool kept = false);
     double free_residual_norm(const Evaluation &ev, int first, int last) const;
     /// The residual norms of the last step's Newton iterations, for the
     /// WIREFEM_NEWTON_LOG lines.

@@ -218,6 +218,8 @@ namespace wirefem::fem
     inertia = integrator != scene::Integrator::quasi_static;
     newton_tolerance = s.fem.newton_tolerance * w.axial_stiffness;
     kept_factors = s.fem.kept_factors && !clamped && !capstan;
+    velocity_predictor = s.fem.velocity_predictor;
+    overlap_growth = clamped || capstan ? 0.0 : s.fem.overlap_growth;
     if (clamped)
       {
         force_scale = s.cantilever.force_scale(w.bending_stiffness);

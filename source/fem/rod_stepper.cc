@@ -55,8 +55,8 @@ namespace wirefem::fem
 
   void RodModel::Impl::predict(const double step, const int first, const int last, StepState &x) const
   {
-    // Constant acceleration for the free dofs, the channel motion for the
-    // prescribed ones.
+    // Constant acceleration (or velocity, FEM/Predictor) for the free dofs,
+    // the channel motion for the prescribed ones.
     const unsigned int n = u.size();
     x.u1 = u;
     x.v1.reinit(n);
@@ -64,8 +64,9 @@ namespace wirefem::fem
     x.v0.reinit(n);
     x.a_blend.reinit(n);
     x.u_hat.reinit(n);
+    const double a_weight = velocity_predictor ? 0.0 : 0.5 * step * step;
     for (unsigned int i = 0; i < n; ++i)
-      x.u1[i] = u[i] + step * v[i] + 0.5 * step * step * a[i];
+      x.u1[i] = u[i] + step * v[i] + a_weight * a[i];
     if (capstan)
       predict_capstan(step, x);
     prescribe(t + step, x.u1, nullptr, nullptr, first, last);
@@ -143,7 +144,7 @@ namespace wirefem::fem
     return free_residual_norm(e, rq.first, rq.last);
   }
 
-  bool RodModel::Impl::solve_step(const double step, const bool kept)
+  RodModel::Impl::StepOutcome RodModel::Impl::solve_step(const double step, const bool kept)
   {
     const double t1 = t + step;
     wall_time = t1;
@@ -180,13 +181,18 @@ namespace wirefem::fem
       {
         if (res <= tol)
           {
+            // An impact crossed in one step: shorter steps, at most four
+            // halvings below the step cap.
+            if (overlap_growth > 0 && e.max_overlap > last_report.max_penetration + overlap_growth &&
+                step > dt_max / 16)
+              return StepOutcome::overlap_grew;
             for (unsigned int i = 0; i < n; ++i)
               e.residual[i] += alpha_f * f_old[i];
             commit(step, first, last, u1, x.v1, x.a1, e, first, last);
-            return true;
+            return StepOutcome::converged;
           }
         if (!std::isfinite(res))
-          return false;
+          return StepOutcome::not_converged;
         for (int i = 0; i < nw; ++i)
           rhs[i] = -(e.residual[lo + i] + alpha_f * f_old[lo + i]);
         {
@@ -196,14 +202,14 @@ namespace wirefem::fem
           const double linear_tolerance =
               kept ? std::max(scene.fem.linear_tolerance * rhs.l2_norm(), scene.fem.linear_floor * tol) : 0.0;
           if (!solve_linear(rhs, dx, linear_tolerance))
-            return false;
+            return StepOutcome::not_converged;
           ++newton_iterations;
         }
         expand_trailing_end(dx);
         res = newton_update(rq, x, dx, res, e, trial);
         history.push_back(res);
       }
-    return false;
+    return StepOutcome::not_converged;
   }
 
   void RodModel::Impl::commit(const double step, const int first, const int last,

@@ -238,6 +238,8 @@ namespace wirefem::scene
     double minimum_time_step = 1e-7;
     double newton_tolerance = 1e-8; ///< on the residual norm relative to the force scale
     unsigned int maximum_iterations = 15;
+    bool velocity_predictor = true;     ///< Newton starts from u + h v, not u + h v + h^2 a / 2
+    double overlap_growth = 0.0;        ///< d per step before a converged step is cut; 0: off
     bool kept_factors = false;          ///< GMRES on kept LU factors instead of an LU per iteration
     double linear_tolerance = 1e-9;     ///< GMRES's, relative to the Newton residual
     double linear_floor = 1e-3;         ///< GMRES's, relative to the Newton tolerance
