@@ -1,6 +1,7 @@
-// The tests' access to the rod FEM's assembly: the assembled tangent K at
-// a step's predictor against central differences of the assembled residual.
-// Not part of the library: it reaches into RodModel::Impl (a friend).
+// The tests' and benchmarks' access to the rod FEM's assembly: the assembled
+// tangent K at a step's predictor against central differences of the
+// assembled residual, and one Newton iteration in its parts. Not part of
+// the library: it reaches into RodModel::Impl (a friend).
 #pragma once
 
 #include "../source/fem/rod_model_impl.h"
@@ -9,6 +10,50 @@ namespace wirefem::fem
 {
   struct RodModelProbe
   {
+    /// One Newton iteration of the rod's next implicit step, in its parts
+    /// (for the benchmarks): at the step's predictor, assemble the residual
+    /// and tangent, factorise the tangent (after the first time with the
+    /// pivot order kept, as Newton does), solve with the factors. The model
+    /// is not advanced.
+    class NewtonIteration
+    {
+    public:
+      explicit NewtonIteration(RodModel &rod)
+        : m(*rod.impl)
+      {
+        const double step = m.dt;
+        m.free_range(m.t + step, first, last);
+        m.wall_time = m.t + step;
+        m.predict(step, first, last, x);
+        m.update_contact_candidates(first, last);
+        rq = m.step_request(x, first, last);
+        assemble();
+        const int lo = 3 * first, nw = 3 * (last - first);
+        rhs.reinit(nw);
+        dx.reinit(nw);
+        for (int i = 0; i < nw; ++i)
+          rhs[i] = -(e.residual[lo + i] + m.alpha_f * m.f_old[lo + i]);
+        factorise();
+      }
+      NewtonIteration(const NewtonIteration &) = delete;
+      NewtonIteration &operator=(const NewtonIteration &) = delete;
+
+      void assemble() { m.evaluate(rq, e); }
+      bool factorise() { return m.factorise_K(); }
+      bool solve() { return m.solve_factorised(rhs, dx); }
+      unsigned int unknowns() const { return rhs.size(); }
+      /// Entries of the tangent's sparsity pattern.
+      std::size_t entries() const { return m.lu_values.size(); }
+
+    private:
+      RodModel::Impl &m;
+      StepState x;
+      int first = 0, last = 0;
+      AssemblyRequest rq;
+      Evaluation e;
+      dealii::Vector<double> rhs, dx;
+    };
+
     /// max |K - K_fd| / max |K| over the free dofs at x.u1, K assembled
     /// there (before the capstan roller's dof is rotated) and K_fd the
     /// central differences of the assembled residual, column by column.
@@ -62,6 +107,8 @@ namespace wirefem::fem
     /// FEM/Overlap growth, and the step cap they are measured against.
     static unsigned long overlap_cuts(const RodModel &rod) { return rod.impl->overlap_cuts; }
     static double step_cap(const RodModel &rod) { return rod.impl->dt_max; }
+    /// Newton iterations (linear solves) of all attempts, cut ones included.
+    static unsigned long newton_iterations(const RodModel &rod) { return rod.impl->newton_iterations; }
 
     /// One step of the model that first checks the tangent at its
     /// predictor; returns the error (-1 if the step assembled nothing).

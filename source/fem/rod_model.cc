@@ -5,7 +5,9 @@ namespace wirefem::fem
   namespace
   {
     constexpr std::uint64_t fem_magic = 0x77666d66656d3031ull; // "wfmfem01"
-  }                                                            // namespace
+    // Written byte for byte into the checkpoint: no padding.
+    static_assert(sizeof(core::StepReport) == sizeof(double) + 2 * sizeof(int), "StepReport has padding");
+  } // namespace
 
   RodModel::RodModel(const scene::RodScene &scene)
     : impl(std::make_unique<Impl>(scene))

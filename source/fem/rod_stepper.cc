@@ -84,6 +84,13 @@ namespace wirefem::fem
     x.update();
   }
 
+  AssemblyRequest RodModel::Impl::step_request(const StepState &x, const int first, const int last) const
+  {
+    const double c_mass = inertia ? (1.0 - alpha_m) / (beta * x.step * x.step) : 0.0;
+    const double c_force = 1.0 - alpha_f;
+    return {&x.u1, &x.a_blend, &x.v0, x.step, x.c_vel, first, last, true, c_mass, c_force, c_force};
+  }
+
   double RodModel::Impl::free_residual_norm(const Evaluation &ev, const int first, const int last) const
   {
     // The max norm over the free dofs of the (generalized-alpha blended)
@@ -154,10 +161,7 @@ namespace wirefem::fem
     StepState x;
     predict(step, first, last, x);
     auto &u1 = x.u1;
-    const double c_mass = inertia ? (1.0 - alpha_m) / (beta * step * step) : 0.0;
-    const double c_force = 1.0 - alpha_f;
-    const AssemblyRequest rq{&u1,  &x.a_blend, &x.v0,  step,    x.c_vel, first,
-                             last, true,       c_mass, c_force, c_force};
+    const AssemblyRequest rq = step_request(x, first, last);
     const double tol = newton_tolerance;
     const int lo = 3 * first, nw = 3 * (last - first);
     auto residual_norm = [&](const Evaluation &ev) { return free_residual_norm(ev, first, last); };
@@ -181,10 +185,10 @@ namespace wirefem::fem
       {
         if (res <= tol)
           {
-            // An impact crossed in one step: shorter steps, at most four
-            // halvings below the step cap.
+            // An impact crossed in one step: shorter steps, down to 1/16
+            // of the step cap.
             if (overlap_growth > 0 && e.max_overlap > last_report.max_penetration + overlap_growth &&
-                step > dt_max / 16)
+                0.5 * step >= dt_max / 16)
               return StepOutcome::overlap_grew;
             for (unsigned int i = 0; i < n; ++i)
               e.residual[i] += alpha_f * f_old[i];

@@ -116,6 +116,7 @@ namespace wirefem::simulation
       double next_row = 0.0;
       double next_vtu = 0.0;
       int vtu_count = 0;
+      std::int32_t padding = 0; // written with the rest: no undefined bytes in the checkpoint
       // Running mean of the inlet force over the jamming window, in injected
       // length: a step that injects dL moves the mean by dL/window.
       double force_mean = 0.0;
@@ -123,6 +124,8 @@ namespace wirefem::simulation
       double max_penetration = 0.0;
       double wall_time = 0.0; // spent before this process (resumed runs)
     };
+    static_assert(sizeof(LoopState) == 6 * sizeof(double) + 2 * sizeof(std::int32_t),
+                  "LoopState has padding");
 
     // The first key whose value differs between two scene fingerprints
     // (scene::Scene::fingerprint), for the message that refuses a resume.

@@ -1,0 +1,130 @@
+// Cost of one Newton iteration of the rod FEM, in its parts: assembly of
+// the residual and tangent, refactorisation of the tangent (KLU, pivot
+// order kept), solve with the factors; on states of the classic scene
+// (prm/classic.prm, seed 1) at f = 10, 25, 50 and phi = 0.3, 0.45. Each
+// benchmark reports the unknowns and the time per unknown (per_unknown).
+// The chain's step at f = 25 is wirefem_benchmarks' `full`.
+//
+// The states are made once by running the FEM from the start and are kept
+// in WIREFEM_FEM_STATES (default: fem-states in the working directory) as
+// the model's checkpoint; a state that is being made is saved every 2,000
+// steps and resumed from there, so f = 50 (hours) can be made in pieces.
+// WIREFEM_FEM_SIZES limits the cavities (default "10 25 50").
+#include <wirefem/analysis/observables.h>
+#include <wirefem/fem/rod_model.h>
+#include <wirefem/scene/scene_reader.h>
+
+#include "../tests/rod_probe.h"
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+namespace
+{
+  using namespace wirefem;
+  namespace fs = std::filesystem;
+
+  scene::Scene classic(const int radius)
+  {
+    return scene::read_scene(
+        WIREFEM_SOURCE_DIR "/prm/classic.prm",
+        {"Model=fem", fmt::format("Cavity/Radius={}", radius), "Injection/Seed=1", "Output/Progress=off"});
+  }
+
+  void save(const fem::RodModel &m, const fs::path &file)
+  {
+    const fs::path part = file.string() + ".tmp";
+    {
+      std::ofstream out(part, std::ios::binary);
+      m.save(out);
+      if (!out)
+        throw std::runtime_error("cannot write " + part.string());
+    }
+    fs::rename(part, file);
+  }
+
+  /// The FEM on the classic scene at this radius, at packing density phi:
+  /// from the kept state, or run there (resuming a partial run).
+  std::unique_ptr<fem::RodModel> state(const int radius, const double phi)
+  {
+    const fs::path dir = std::getenv("WIREFEM_FEM_STATES") ? std::getenv("WIREFEM_FEM_STATES") : "fem-states";
+    fs::create_directories(dir);
+    const fs::path file = dir / fmt::format("classic_f{}_phi{}.bin", radius, phi);
+    const fs::path partial = dir / fmt::format("classic_f{}_phi{}.partial", radius, phi);
+    auto m = std::make_unique<fem::RodModel>(classic(radius));
+    const fs::path from = fs::exists(file) ? file : partial;
+    if (fs::exists(from))
+      {
+        std::ifstream in(from, std::ios::binary);
+        m->load(in);
+      }
+    if (fs::exists(file))
+      return m;
+    std::cerr << fmt::format("making {} (FEM from phi {:.3f})\n", file.string(),
+                             analysis::packing_density(m->injected_length(), radius));
+    while (analysis::packing_density(m->injected_length(), radius) < phi)
+      {
+        m->step();
+        if (m->n_steps() % 2000 == 0)
+          save(*m, partial);
+      }
+    save(*m, file);
+    fs::remove(partial);
+    return m;
+  }
+
+  enum class Part
+  {
+    assembly,
+    factorisation,
+    solve
+  };
+
+  void newton_iteration(benchmark::State &st, const int radius, const double phi, const Part part)
+  {
+    auto m = state(radius, phi);
+    fem::RodModelProbe::NewtonIteration it(*m);
+    for (auto _ : st)
+      switch (part)
+        {
+        case Part::assembly:
+          it.assemble();
+          break;
+        case Part::factorisation:
+          benchmark::DoNotOptimize(it.factorise());
+          break;
+        case Part::solve:
+          benchmark::DoNotOptimize(it.solve());
+          break;
+        }
+    st.counters["unknowns"] = it.unknowns();
+    st.counters["entries"] = static_cast<double>(it.entries());
+    st.counters["per_unknown"] = benchmark::Counter(
+        it.unknowns(), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  }
+} // namespace
+
+int main(int argc, char **argv)
+{
+  std::istringstream sizes(std::getenv("WIREFEM_FEM_SIZES") ? std::getenv("WIREFEM_FEM_SIZES") : "10 25 50");
+  const std::pair<Part, const char *> parts[] = {
+      {Part::assembly, "assembly"}, {Part::factorisation, "factorisation"}, {Part::solve, "solve"}};
+  for (int radius; sizes >> radius;)
+    for (const double phi : {0.3, 0.45})
+      for (const auto &[part, name] : parts)
+        benchmark::RegisterBenchmark(
+            fmt::format("fem_newton/f{}/phi{}/{}", radius, phi, name).c_str(),
+            [radius, phi, part = part](benchmark::State &st) { newton_iteration(st, radius, phi, part); })
+            ->Unit(benchmark::kMicrosecond);
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+}
