@@ -32,6 +32,9 @@ namespace
   using namespace wirefem;
   namespace fs = std::filesystem;
 
+  /// The packing densities of the states, from the highest.
+  constexpr double densities[] = {0.45, 0.3};
+
   scene::Scene classic(const int radius)
   {
     return scene::read_scene(
@@ -60,7 +63,12 @@ namespace
     const fs::path file = dir / fmt::format("classic_f{}_phi{}.bin", radius, phi);
     const fs::path partial = dir / fmt::format("classic_f{}_phi{}.partial", radius, phi);
     auto m = std::make_unique<fem::RodModel>(classic(radius));
-    const fs::path from = fs::exists(file) ? file : partial;
+    // Start from the state itself, its partial run, or the kept state of
+    // the same cavity at the highest lower density.
+    fs::path from = fs::exists(file) ? file : partial;
+    for (const double lower : densities)
+      if (!fs::exists(from) && lower < phi)
+        from = dir / fmt::format("classic_f{}_phi{}.bin", radius, lower);
     if (fs::exists(from))
       {
         std::ifstream in(from, std::ios::binary);
@@ -118,7 +126,7 @@ int main(int argc, char **argv)
   const std::pair<Part, const char *> parts[] = {
       {Part::assembly, "assembly"}, {Part::factorisation, "factorisation"}, {Part::solve, "solve"}};
   for (int radius; sizes >> radius;)
-    for (const double phi : {0.3, 0.45})
+    for (const double phi : {densities[1], densities[0]})
       for (const auto &[part, name] : parts)
         benchmark::RegisterBenchmark(
             fmt::format("fem_newton/f{}/phi{}/{}", radius, phi, name).c_str(),
