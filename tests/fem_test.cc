@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <vector>
@@ -965,6 +966,27 @@ namespace
     EXPECT_EQ(fem::RodModelProbe::overlap_cuts(straight), fem::RodModelProbe::overlap_cuts(resumed));
     EXPECT_EQ(straight.time(), resumed.time());
     EXPECT_EQ(largest_distance(straight, resumed), 0.0);
+  }
+
+  TEST(RodModel, StatisticsCountTheSolversWork)
+  {
+    // What summary.json records as solver_statistics on the injection
+    // scenes, against the counters it is read from.
+    fem::RodModel m(contact_scene("FEM/Overlap growth=0.004"));
+    while (m.injected_length() < 20.0)
+      m.step();
+    std::map<std::string, double> stats;
+    for (const auto &[key, value] : m.statistics())
+      stats[key] = value;
+    const auto &ls = fem::RodModelProbe::linear_statistics(m);
+    EXPECT_EQ(stats.size(), 4u);
+    EXPECT_EQ(stats["newton_iterations"], fem::RodModelProbe::newton_iterations(m));
+    EXPECT_GT(stats["newton_iterations"], 0.0);
+    EXPECT_EQ(stats["step_cuts"], m.n_step_cuts());
+    EXPECT_EQ(stats["overlap_cuts"], fem::RodModelProbe::overlap_cuts(m));
+    EXPECT_GT(stats["overlap_cuts"], 0.0);
+    EXPECT_EQ(stats["factorisations"], ls.factorisations + ls.refactorisations);
+    EXPECT_GT(stats["factorisations"], 0.0);
   }
 
   TEST(RodModel, AStepThatFailsWithInexactSolvesIsRetriedWithAnLUBeforeItIsCut)

@@ -265,7 +265,15 @@ namespace wirefem::fem
                 {"step_cuts", static_cast<double>(m.cuts)}};
       }
     if (!m.clamped)
-      return {};
+      {
+        // The injection scenes: the solver's work, independent of the
+        // machine (a Newton iteration is one linear solve).
+        const auto &ls = m.lu.statistics();
+        return {{"newton_iterations", static_cast<double>(m.newton_iterations)},
+                {"step_cuts", static_cast<double>(m.cuts)},
+                {"overlap_cuts", static_cast<double>(m.overlap_cuts)},
+                {"factorisations", static_cast<double>(ls.factorisations + ls.refactorisations)}};
+      }
     return {{"elements", m.n_cells},
             {"element_length", m.h},
             {"degree", m.p},
