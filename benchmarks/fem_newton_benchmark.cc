@@ -60,7 +60,10 @@ namespace
   {
     const fs::path dir = std::getenv("WIREFEM_FEM_STATES") ? std::getenv("WIREFEM_FEM_STATES") : "fem-states";
     fs::create_directories(dir);
-    const fs::path file = dir / fmt::format("classic_f{}_phi{}.bin", radius, phi);
+    const auto kept = [&](const double density) {
+      return dir / fmt::format("classic_f{}_phi{}.bin", radius, density);
+    };
+    const fs::path file = kept(phi);
     const fs::path partial = dir / fmt::format("classic_f{}_phi{}.partial", radius, phi);
     auto m = std::make_unique<fem::RodModel>(classic(radius));
     // Start from the state itself, its partial run, or the kept state of
@@ -68,7 +71,7 @@ namespace
     fs::path from = fs::exists(file) ? file : partial;
     for (const double lower : densities)
       if (!fs::exists(from) && lower < phi)
-        from = dir / fmt::format("classic_f{}_phi{}.bin", radius, lower);
+        from = kept(lower);
     if (fs::exists(from))
       {
         std::ifstream in(from, std::ios::binary);

@@ -7,6 +7,7 @@
 #include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/cantilever.h>
 #include <wirefem/simulation/capstan.h>
+#include "resume_check.h"
 
 #include <gtest/gtest.h>
 
@@ -983,17 +984,8 @@ namespace
   TEST(ChainModel, SaveAndLoadContinueBitForBit)
   {
     const auto s = small_scene({"Contact/Friction/Static coefficient=2"});
-    discrete::ChainModel straight(s), first(s);
-    while (first.injected_length() < 30.0)
-      first.step();
-    std::stringstream buffer;
-    first.save(buffer);
-    discrete::ChainModel resumed(s);
-    resumed.load(buffer);
-    while (straight.injected_length() < 45.0)
-      straight.step();
-    while (resumed.injected_length() < 45.0)
-      resumed.step();
+    discrete::ChainModel straight(s), first(s), resumed(s);
+    checks::run_straight_and_resumed(straight, first, resumed, 30.0, 45.0);
     EXPECT_EQ(straight.n_steps(), resumed.n_steps());
     EXPECT_EQ(state_hash(straight), state_hash(resumed));
     EXPECT_NEAR(straight.energies().friction, resumed.energies().friction,

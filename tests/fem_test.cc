@@ -7,6 +7,7 @@
 #include <wirefem/fem/contact_element.h>
 #include <wirefem/fem/rod_element.h>
 #include <wirefem/fem/rod_model.h>
+#include "resume_check.h"
 #include "rod_probe.h"
 #include <wirefem/simulation/capstan.h>
 #include <wirefem/injection/channels.h>
@@ -22,7 +23,6 @@
 #include <iostream>
 #include <map>
 #include <random>
-#include <sstream>
 #include <vector>
 
 namespace
@@ -949,17 +949,8 @@ namespace
     // With the overlap-growth cut on, whose test reads the last step's
     // largest overlap: that is part of the checkpoint too.
     const auto s = contact_scene("FEM/Overlap growth=0.004");
-    fem::RodModel straight(s), first(s);
-    while (first.injected_length() < 15.0)
-      first.step();
-    std::stringstream buffer;
-    first.save(buffer);
-    fem::RodModel resumed(s);
-    resumed.load(buffer);
-    while (straight.injected_length() < 30.0)
-      straight.step();
-    while (resumed.injected_length() < 30.0)
-      resumed.step();
+    fem::RodModel straight(s), first(s), resumed(s);
+    checks::run_straight_and_resumed(straight, first, resumed, 15.0, 30.0);
     EXPECT_GT(fem::RodModelProbe::overlap_cuts(straight), fem::RodModelProbe::overlap_cuts(first))
         << "no step cut for overlap growth after the checkpoint";
     EXPECT_EQ(straight.n_steps(), resumed.n_steps());

@@ -20,19 +20,12 @@ namespace wirefem::fem
     public:
       explicit NewtonIteration(RodModel &rod)
         : m(*rod.impl)
+        , rq(m.start_step(m.dt, x))
+        , rhs(3 * (rq.last - rq.first))
+        , dx(rhs.size())
       {
-        const double step = m.dt;
-        m.free_range(m.t + step, first, last);
-        m.wall_time = m.t + step;
-        m.predict(step, first, last, x);
-        m.update_contact_candidates(first, last);
-        rq = m.step_request(x, first, last);
         assemble();
-        const int lo = 3 * first, nw = 3 * (last - first);
-        rhs.reinit(nw);
-        dx.reinit(nw);
-        for (int i = 0; i < nw; ++i)
-          rhs[i] = -(e.residual[lo + i] + m.alpha_f * m.f_old[lo + i]);
+        m.newton_rhs(e, rq, rhs);
         factorise();
       }
       NewtonIteration(const NewtonIteration &) = delete;
@@ -48,10 +41,9 @@ namespace wirefem::fem
     private:
       RodModel::Impl &m;
       StepState x;
-      int first = 0, last = 0;
       AssemblyRequest rq;
-      Evaluation e;
       dealii::Vector<double> rhs, dx;
+      Evaluation e;
     };
 
     /// max |K - K_fd| / max |K| over the free dofs at x.u1, K assembled

@@ -394,9 +394,14 @@ namespace wirefem::fem
     /// The predictor of an implicit step of length `step` (free range
     /// [first, last)), with its kinematics.
     void predict(double step, int first, int last, StepState &x) const;
-    /// The assembly of an implicit step at x (from predict()): the
-    /// generalized-alpha weights of the mass and forces, the free range.
-    AssemblyRequest step_request(const StepState &x, int first, int last) const;
+    /// The start of an implicit step of length `step`: the channel mouths
+    /// and free range at its end, its predictor x, the contact candidates;
+    /// returns the step's assembly request (the generalized-alpha weights
+    /// of the mass and forces, the free range) at x.
+    AssemblyRequest start_step(double step, StepState &x);
+    /// Newton's right-hand side over the free dofs: minus the blended
+    /// residual.
+    void newton_rhs(const Evaluation &ev, const AssemblyRequest &rq, dealii::Vector<double> &rhs) const;
     /// max |K - K_fd| / max |K| at x.u1, K assembled there and K_fd the
     /// central differences of the assembled residual (tests).
     /// Called (when set) with the first assembly of each implicit step, at

@@ -84,11 +84,25 @@ namespace wirefem::fem
     x.update();
   }
 
-  AssemblyRequest RodModel::Impl::step_request(const StepState &x, const int first, const int last) const
+  AssemblyRequest RodModel::Impl::start_step(const double step, StepState &x)
   {
-    const double c_mass = inertia ? (1.0 - alpha_m) / (beta * x.step * x.step) : 0.0;
+    wall_time = t + step;
+    int first, last;
+    free_range(wall_time, first, last);
+    predict(step, first, last, x);
+    if (!clamped && !capstan) // the other loadings have no self contact
+      update_contact_candidates(first, last);
+    const double c_mass = inertia ? (1.0 - alpha_m) / (beta * step * step) : 0.0;
     const double c_force = 1.0 - alpha_f;
-    return {&x.u1, &x.a_blend, &x.v0, x.step, x.c_vel, first, last, true, c_mass, c_force, c_force};
+    return {&x.u1, &x.a_blend, &x.v0, step, x.c_vel, first, last, true, c_mass, c_force, c_force};
+  }
+
+  void RodModel::Impl::newton_rhs(const Evaluation &ev, const AssemblyRequest &rq,
+                                  dealii::Vector<double> &rhs) const
+  {
+    const int lo = 3 * rq.first;
+    for (unsigned int i = 0; i < rhs.size(); ++i)
+      rhs[i] = -(ev.residual[lo + i] + alpha_f * f_old[lo + i]);
   }
 
   double RodModel::Impl::free_residual_norm(const Evaluation &ev, const int first, const int last) const
@@ -153,20 +167,14 @@ namespace wirefem::fem
 
   RodModel::Impl::StepOutcome RodModel::Impl::solve_step(const double step, const bool kept)
   {
-    const double t1 = t + step;
-    wall_time = t1;
-    int first, last;
-    free_range(t1, first, last);
     const unsigned int n = u.size();
     StepState x;
-    predict(step, first, last, x);
+    const AssemblyRequest rq = start_step(step, x);
+    const int first = rq.first, last = rq.last;
     auto &u1 = x.u1;
-    const AssemblyRequest rq = step_request(x, first, last);
     const double tol = newton_tolerance;
-    const int lo = 3 * first, nw = 3 * (last - first);
+    const int nw = 3 * (last - first);
     auto residual_norm = [&](const Evaluation &ev) { return free_residual_norm(ev, first, last); };
-    if (!clamped && !capstan) // the other loadings have no self contact
-      update_contact_candidates(first, last);
 
     history.clear();
     Evaluation e, trial;
@@ -197,8 +205,7 @@ namespace wirefem::fem
           }
         if (!std::isfinite(res))
           return StepOutcome::not_converged;
-        for (int i = 0; i < nw; ++i)
-          rhs[i] = -(e.residual[lo + i] + alpha_f * f_old[lo + i]);
+        newton_rhs(e, rq, rhs);
         {
           dealii::TimerOutput::Scope ts(timer, "linear solve");
           // Kept factors: an inexact Newton step, the linear residual a

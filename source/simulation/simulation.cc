@@ -508,9 +508,8 @@ namespace wirefem::simulation
       j["time_step"] = model.time_step();
       j["wall_time_s"] = result.wall_time_s;
       j["max_penetration"] = result.max_penetration;
-      if (const auto stats = model.statistics(); !stats.empty())
-        for (const auto &[key, value] : stats)
-          j["solver_statistics"][key] = value;
+      for (const auto &[key, value] : model.statistics())
+        j["solver_statistics"][key] = value;
       j["energy"] = {{"initial", e.initial},
                      {"injection_work", e.injection_work},
                      {"stretching", e.stretching},
