@@ -3,7 +3,11 @@
 // order kept), solve with the factors; on states of the classic scene
 // (prm/classic.prm, seed 1) at f = 10, 25, 50 and phi = 0.3, 0.45. Each
 // benchmark reports the unknowns and the time per unknown (per_unknown).
-// The chain's step at f = 25 is wirefem_benchmarks' `full`.
+// The chain's step at f = 25 is wirefem_benchmarks' `full`. On the densest
+// state of each cavity, fem_factorisation compares the FEM's factorisation
+// (KLU, AMD on the graph of the nodes: `factorisation` above) with AMD on
+// the dofs, COLAMD, UMFPACK and Eigen's SparseLU (counter fill: entries of
+// the factors over the matrix's).
 //
 // The states are made once by running the FEM from the start and are kept
 // in WIREFEM_FEM_STATES (default: fem-states in the working directory) as
@@ -16,8 +20,12 @@
 
 #include "../tests/rod_probe.h"
 
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
+#include <klu.h>
+#include <umfpack.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -75,7 +83,17 @@ namespace
     if (fs::exists(from))
       {
         std::ifstream in(from, std::ios::binary);
-        m->load(in);
+        try
+          {
+            m->load(in);
+          }
+        catch (const std::runtime_error &e)
+          {
+            // A state of an earlier format: made again from the start.
+            std::cerr << fmt::format("{}: {}; made again\n", from.string(), e.what());
+            m = std::make_unique<fem::RodModel>(classic(radius));
+            fs::remove(from);
+          }
       }
     if (fs::exists(file))
       return m;
@@ -121,6 +139,98 @@ namespace
     st.counters["per_unknown"] = benchmark::Counter(
         it.unknowns(), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   }
+
+  // The factorisation of the same tangent by the sparse LU codes at hand,
+  // as Newton would use them: the analysis once, then a numeric
+  // factorisation per iteration (KLU: with the pivot order kept). KLU and
+  // UMFPACK read columns, so they factorise A^T, at A's cost.
+  enum class Solver
+  {
+    klu_dofs,   ///< SparseDirect with AMD on the graph of the dofs
+    klu_colamd, ///< KLU with COLAMD
+    umfpack,    ///< UMFPACK (multifrontal)
+    eigen       ///< Eigen's SparseLU (supernodal), COLAMD
+  };
+
+  void factorisation_by(benchmark::State &st, const int radius, const double phi, const Solver solver)
+  {
+    auto m = state(radius, phi);
+    fem::RodModelProbe::NewtonIteration it(*m);
+    std::vector<int> row_start, columns;
+    std::vector<double> values;
+    it.matrix(row_start, columns, values);
+    const int n = static_cast<int>(row_start.size()) - 1;
+    const auto entries = static_cast<double>(columns.size());
+    double factor_entries = 0.0;
+    switch (solver)
+      {
+      case Solver::klu_dofs:
+        {
+          fem::SparseDirect lu;
+          lu.analyse(n, row_start, columns, 1);
+          lu.factorise(values);
+          factor_entries = lu.statistics().factor_entries;
+          for (auto _ : st)
+            benchmark::DoNotOptimize(lu.factorise(values));
+          break;
+        }
+      case Solver::klu_colamd:
+        {
+          klu_common common;
+          klu_defaults(&common);
+          common.btf = 0;
+          common.ordering = 1;
+          klu_symbolic *symbolic = klu_analyze(n, row_start.data(), columns.data(), &common);
+          klu_numeric *numeric =
+              klu_factor(row_start.data(), columns.data(), values.data(), symbolic, &common);
+          factor_entries = static_cast<double>(numeric->lnz + numeric->unz);
+          for (auto _ : st)
+            benchmark::DoNotOptimize(
+                klu_refactor(row_start.data(), columns.data(), values.data(), symbolic, numeric, &common));
+          klu_free_numeric(&numeric, &common);
+          klu_free_symbolic(&symbolic, &common);
+          break;
+        }
+      case Solver::umfpack:
+        {
+          double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
+          umfpack_di_defaults(control);
+          void *symbolic = nullptr, *numeric = nullptr;
+          umfpack_di_symbolic(n, n, row_start.data(), columns.data(), values.data(), &symbolic, control,
+                              info);
+          for (auto _ : st)
+            {
+              if (numeric)
+                umfpack_di_free_numeric(&numeric);
+              umfpack_di_numeric(row_start.data(), columns.data(), values.data(), symbolic, &numeric, control,
+                                 info);
+            }
+          factor_entries = info[UMFPACK_LNZ] + info[UMFPACK_UNZ];
+          umfpack_di_free_numeric(&numeric);
+          umfpack_di_free_symbolic(&symbolic);
+          break;
+        }
+      case Solver::eigen:
+        {
+          using Matrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+          const Eigen::Map<const Matrix> a(n, n, static_cast<int>(columns.size()), row_start.data(),
+                                           columns.data(), values.data());
+          const Eigen::SparseMatrix<double, Eigen::ColMajor, int> by_columns = a;
+          Eigen::SparseLU<Eigen::SparseMatrix<double, Eigen::ColMajor, int>, Eigen::COLAMDOrdering<int>> lu;
+          lu.analyzePattern(by_columns);
+          lu.factorize(by_columns);
+          factor_entries = static_cast<double>(lu.nnzL() + lu.nnzU());
+          for (auto _ : st)
+            lu.factorize(by_columns);
+          break;
+        }
+      }
+    st.counters["unknowns"] = n;
+    st.counters["entries"] = entries;
+    st.counters["fill"] = factor_entries / entries;
+    st.counters["per_unknown"] =
+        benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  }
 } // namespace
 
 int main(int argc, char **argv)
@@ -135,6 +245,21 @@ int main(int argc, char **argv)
             fmt::format("fem_newton/f{}/phi{}/{}", radius, phi, name).c_str(),
             [radius, phi, part = part](benchmark::State &st) { newton_iteration(st, radius, phi, part); })
             ->Unit(benchmark::kMicrosecond);
+  // The other sparse LU codes, on the densest state of each cavity.
+  const std::pair<Solver, const char *> solvers[] = {{Solver::klu_dofs, "klu_amd_dofs"},
+                                                     {Solver::klu_colamd, "klu_colamd"},
+                                                     {Solver::umfpack, "umfpack"},
+                                                     {Solver::eigen, "eigen_sparselu"}};
+  sizes.clear();
+  sizes.seekg(0);
+  for (int radius; sizes >> radius;)
+    for (const auto &[solver, name] : solvers)
+      benchmark::RegisterBenchmark(
+          fmt::format("fem_factorisation/f{}/phi{}/{}", radius, densities[0], name).c_str(),
+          [radius, solver = solver](benchmark::State &st) {
+            factorisation_by(st, radius, densities[0], solver);
+          })
+          ->Unit(benchmark::kMicrosecond);
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -6,6 +6,10 @@
 
 #include "../source/fem/rod_model_impl.h"
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
 namespace wirefem::fem
 {
   struct RodModelProbe
@@ -37,6 +41,22 @@ namespace wirefem::fem
       unsigned int unknowns() const { return rhs.size(); }
       /// Entries of the tangent's sparsity pattern.
       std::size_t entries() const { return m.lu_values.size(); }
+      /// The tangent of the last factorise() as sorted rows (CSR): the
+      /// start of each row, the column and the value of each entry.
+      void matrix(std::vector<int> &row_start, std::vector<int> &columns, std::vector<double> &values) const
+      {
+        const auto &sp = m.sparsity;
+        row_start.assign(1, 0);
+        columns.clear();
+        for (unsigned int i = 0; i < sp.n_rows(); ++i)
+          {
+            for (auto it = sp.begin(i); it != sp.end(i); ++it)
+              columns.push_back(static_cast<int>(it->column()));
+            std::sort(columns.begin() + row_start.back(), columns.end());
+            row_start.push_back(static_cast<int>(columns.size()));
+          }
+        values = m.lu_values;
+      }
 
     private:
       RodModel::Impl &m;
@@ -101,6 +121,59 @@ namespace wirefem::fem
     static double step_cap(const RodModel &rod) { return rod.impl->dt_max; }
     /// Newton iterations (linear solves) of all attempts, cut ones included.
     static unsigned long newton_iterations(const RodModel &rod) { return rod.impl->newton_iterations; }
+
+    /// What became of a pair pushed into contact within a step.
+    struct PushedPair
+    {
+      bool found = false;            ///< a candidate pair outside K's pattern was pushed
+      bool touching = false;         ///< it touches after the push
+      bool in_pattern_after = false; ///< it is in K's pattern after the tangent was assembled
+      double tangent_error = -1.0;   ///< as tangent_error(), after the push
+      std::size_t pattern_pairs = 0; ///< pairs in K's pattern before the push
+      std::size_t candidates = 0;    ///< the broad phase's pairs
+    };
+
+    /// One step of the model that, at its predictor, takes a candidate pair
+    /// that is not in K's pattern, moves the first node of its first
+    /// segment to 0.9 d from the middle of its second segment (in the
+    /// step's unknowns, as a Newton iterate would) and checks the tangent
+    /// there.
+    static PushedPair step_pushing_a_pair_into_contact(RodModel &rod)
+    {
+      PushedPair r;
+      auto &m = *rod.impl;
+      bool done = false; // the probe runs at the first attempt only
+      m.predictor_probe = [&](const AssemblyRequest &rq, StepState &x) {
+        if (std::exchange(done, true))
+          return;
+        Evaluation e;
+        m.evaluate(rq, e); // K's pattern at the predictor
+        r.pattern_pairs = m.sp_pairs.size();
+        r.candidates = m.broad.candidates().size();
+        for (const auto &pr : m.broad.candidates())
+          {
+            if (std::binary_search(m.sp_pairs.begin(), m.sp_pairs.end(), pr) || pr.i < rq.first ||
+                pr.j + 1 >= rq.last)
+              continue;
+            r.found = true;
+            const Vec2 b0 = m.position(x.u1, pr.j), b1 = m.position(x.u1, pr.j + 1), mid = 0.5 * (b0 + b1);
+            const Vec2 along = (1.0 / core::norm(b1 - b0)) * (b1 - b0), across{-along.y, along.x};
+            const Vec2 a = m.position(x.u1, pr.i);
+            const Vec2 to = mid + (core::dot(a - mid, across) >= 0.0 ? 0.9 : -0.9) * m.diameter * across;
+            x.u1[3 * pr.i] = to.x;
+            x.u1[3 * pr.i + 1] = to.y;
+            x.update();
+            r.touching =
+                contact::closest_points(to, m.position(x.u1, pr.i + 1), b0, b1).distance < m.diameter;
+            r.tangent_error = tangent_error(m, rq, x);
+            r.in_pattern_after = std::binary_search(m.sp_pairs.begin(), m.sp_pairs.end(), pr);
+            break;
+          }
+      };
+      rod.step();
+      m.predictor_probe = nullptr;
+      return r;
+    }
 
     /// One step of the model that first checks the tangent at its
     /// predictor; returns the error (-1 if the step assembled nothing).

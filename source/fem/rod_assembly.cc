@@ -43,23 +43,65 @@ namespace wirefem::fem
     return true;
   }
 
-  void RodModel::Impl::rebuild_sparsity(const int first, const int last)
+  void RodModel::Impl::near_pairs(const dealii::Vector<double> &x, const double reach,
+                                  std::vector<contact::SegmentPair> &out) const
+  {
+    out.clear();
+    const double cutoff = diameter + reach;
+    for (const auto &pr : broad.candidates())
+      {
+        const Vec2 a0 = position(x, pr.i), a1 = position(x, pr.i + 1), b0 = position(x, pr.j),
+                   b1 = position(x, pr.j + 1);
+        if (contact::box_gap(a0, a1, b0, b1) < cutoff &&
+            contact::closest_points(a0, a1, b0, b1).distance < cutoff)
+          out.push_back(pr);
+      }
+  }
+
+  bool RodModel::Impl::pattern_covers(const dealii::Vector<double> &x) const
+  {
+    // Both lists are sorted by (i, j).
+    auto in = sp_pairs.begin();
+    for (const auto &pr : broad.candidates())
+      {
+        const Vec2 a0 = position(x, pr.i), a1 = position(x, pr.i + 1), b0 = position(x, pr.j),
+                   b1 = position(x, pr.j + 1);
+        if (contact::box_gap(a0, a1, b0, b1) >= diameter ||
+            contact::closest_points(a0, a1, b0, b1).distance >= diameter)
+          continue;
+        while (in != sp_pairs.end() && *in < pr)
+          ++in;
+        if (in == sp_pairs.end() || !(*in == pr))
+          return false;
+      }
+    return true;
+  }
+
+  void RodModel::Impl::rebuild_sparsity(const int first, const int last,
+                                        std::vector<contact::SegmentPair> pairs)
   {
     const int lo = 3 * first, n = 3 * (last - first);
     dealii::DynamicSparsityPattern dsp(n, n);
-    auto couple = [&](const std::vector<int> &nodes) {
+    // The first `components` dofs of each node of `nodes` with each other.
+    auto couple = [&](const std::vector<int> &nodes, const int components) {
       for (const int ka : nodes)
         for (const int kb : nodes)
           if (ka >= first && ka < last && kb >= first && kb < last)
-            for (int ca = 0; ca < 3; ++ca)
-              for (int cb = 0; cb < 3; ++cb)
+            for (int ca = 0; ca < components; ++ca)
+              for (int cb = 0; cb < components; ++cb)
                 dsp.add(3 * ka + ca - lo, 3 * kb + cb - lo);
     };
     for (unsigned int c = 0; c < n_cells; ++c)
       if (cell_active(c, first, last))
-        couple(std::vector<int>(cell_node[c].begin(), cell_node[c].end()));
-    for (const auto &pr : broad.candidates())
-      couple({pr.i, pr.i + 1, pr.j, pr.j + 1});
+        couple(std::vector<int>(cell_node[c].begin(), cell_node[c].end()), 3);
+    // Contact acts on positions only (add_contact). A pair presses each
+    // segment's first node onto the other segment (assemble_self_contact):
+    // node i with j and j + 1, node j with i and i + 1.
+    for (const auto &pr : pairs)
+      {
+        couple({pr.i, pr.j, pr.j + 1}, 2);
+        couple({pr.j, pr.i, pr.i + 1}, 2);
+      }
     sparsity.copy_from(dsp);
     K.reinit(sparsity);
     // Sorted rows for KLU (deal.II keeps the diagonal first in each row).
@@ -82,10 +124,10 @@ namespace wirefem::fem
         row_start[i + 1] = static_cast<int>(columns.size());
       }
     lu_values.resize(columns.size());
-    lu.analyse(nr, std::move(row_start), std::move(columns));
+    lu.analyse(nr, std::move(row_start), std::move(columns), 3);
     sp_first = first;
     sp_last = last;
-    sp_pairs = broad.candidates();
+    sp_pairs = std::move(pairs);
   }
 
   void RodModel::Impl::evaluate(const AssemblyRequest &rq, Evaluation &e)
@@ -104,8 +146,22 @@ namespace wirefem::fem
     e.n_wall = 0;
     if (rq.want_tangent)
       {
-        if (rq.first != sp_first || rq.last != sp_last || broad.candidates() != sp_pairs)
-          rebuild_sparsity(rq.first, rq.last);
+        dealii::TimerOutput::Scope ts(timer, "sparsity pattern");
+        // K's pattern holds the elements of the free range and the
+        // candidate pairs within pattern_margin of contact when it was
+        // built; it is built anew when the free range changes or a pair
+        // that can touch (closer than the contact distance) is not in it.
+        // A loaded model first rebuilds the saved pattern, so that it orders
+        // and rounds as the run it continues.
+        if (pattern_stale && sp_first >= 0)
+          rebuild_sparsity(sp_first, sp_last, sp_pairs);
+        pattern_stale = false;
+        if (rq.first != sp_first || rq.last != sp_last || !pattern_covers(*rq.u))
+          {
+            std::vector<contact::SegmentPair> near;
+            near_pairs(*rq.u, pattern_margin, near);
+            rebuild_sparsity(rq.first, rq.last, std::move(near));
+          }
         K = 0;
       }
     assemble_elements(rq, e);

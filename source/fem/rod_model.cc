@@ -4,7 +4,7 @@ namespace wirefem::fem
 {
   namespace
   {
-    constexpr std::uint64_t fem_magic = 0x77666d66656d3031ull; // "wfmfem01"
+    constexpr std::uint64_t fem_magic = 0x77666d66656d3032ull; // "wfmfem02"
     // Written byte for byte into the checkpoint: no padding.
     static_assert(sizeof(core::StepReport) == sizeof(double) + 2 * sizeof(int), "StepReport has padding");
   } // namespace
@@ -300,6 +300,9 @@ namespace wirefem::fem
     core::write_raw(out, m.first_free);
     core::write_raw(out, m.last_free);
     core::write_raw(out, m.ledger);
+    core::write_raw(out, m.sp_first);
+    core::write_raw(out, m.sp_last);
+    core::write_vector(out, m.sp_pairs, 0, m.sp_pairs.size());
     for (const auto &w : m.window)
       {
         core::write_raw(out, w.injected);
@@ -330,6 +333,17 @@ namespace wirefem::fem
     m.first_free = core::read_raw<int>(in);
     m.last_free = core::read_raw<int>(in);
     m.ledger = core::read_raw<core::EnergyLedger>(in);
+    m.sp_first = core::read_raw<int>(in);
+    m.sp_last = core::read_raw<int>(in);
+    if (const auto pairs = core::peek_vector_size(in); pairs <= std::size_t{m.n_nodes} * m.n_nodes)
+      m.sp_pairs.resize(pairs);
+    else
+      throw std::runtime_error("checkpoint does not fit this scene");
+    core::read_vector(in, m.sp_pairs);
+    for (const auto &pr : m.sp_pairs)
+      if (pr.i < 0 || pr.j <= pr.i || static_cast<unsigned int>(pr.j) + 1 >= m.n_nodes)
+        throw std::runtime_error("checkpoint does not fit this scene");
+    m.pattern_stale = true;
     for (auto &w : m.window)
       {
         w.injected = core::read_raw<double>(in);

@@ -190,8 +190,24 @@ namespace wirefem::fem
     unsigned long retried_steps = 0;
     /// Solves with the factors of the last factorise_K().
     bool solve_factorised(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
+    /// K's pattern: the elements of the free range [sp_first, sp_last) and
+    /// the contact pairs sp_pairs (sorted), the candidates within
+    /// pattern_margin of contact when it was built (evaluate()). Only these
+    /// can touch before the pattern is built again, so only these enter it:
+    /// the others' entries would be zeros that the factorisation fills in.
+    /// The pattern is part of the checkpoint (pattern_stale: loaded, not
+    /// yet built), and the broad phase finds every pair within the margin,
+    /// so a resumed run orders and rounds as the uninterrupted one.
     int sp_first = -1, sp_last = -1;
     std::vector<contact::SegmentPair> sp_pairs;
+    bool pattern_stale = false;
+    double pattern_margin = 0;
+    /// The candidate pairs of positions `u` closer than diameter + reach.
+    void near_pairs(const dealii::Vector<double> &u, double reach,
+                    std::vector<contact::SegmentPair> &out) const;
+    /// Whether every candidate pair of positions `u` closer than the
+    /// contact distance (every pair that can touch) is in K's pattern.
+    bool pattern_covers(const dealii::Vector<double> &u) const;
 
     core::EnergyLedger ledger;
     core::StepReport last_report;
@@ -359,7 +375,8 @@ namespace wirefem::fem
     std::vector<dealii::types::global_dof_index> scratch_rows; ///< add_matrix
     std::vector<int> scratch_pick;                             ///< add_matrix
     dealii::FullMatrix<double> scratch_block;                  ///< add_matrix
-    void rebuild_sparsity(int first, int last);
+    /// K's pattern for the free range [first, last) and these contact pairs.
+    void rebuild_sparsity(int first, int last, std::vector<contact::SegmentPair> pairs);
     /// How an implicit step ended: committed, Newton failed, or converged
     /// to a state whose largest overlap grew by more than FEM/Overlap
     /// growth (not committed).

@@ -204,7 +204,11 @@ namespace wirefem::fem
     if (wall_settings.friction || self_settings.friction)
       effects.push_back("friction");
     exclusion = std::max(1, static_cast<int>(std::ceil(con.exclusion_length / min_spacing - 1e-9)));
-    broad = contact::BroadPhase(diameter, con.skin, exclusion);
+    // K's pattern holds the pairs within pattern_margin of contact; the
+    // broad phase finds all of them (its guarantee reaches the contact
+    // distance plus the margin; its cutoff, diameter + skin, is unchanged).
+    pattern_margin = 0.2 * con.skin;
+    broad = contact::BroadPhase(diameter + pattern_margin, con.skin - pattern_margin, exclusion);
   }
 
   void RodModel::Impl::build_integrator(const scene::RodScene &s)

@@ -1,9 +1,11 @@
 #include <wirefem/fem/sparse_direct.h>
 
+#include <amd.h>
 #include <klu.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 
 namespace wirefem::fem
@@ -183,14 +185,48 @@ namespace wirefem::fem
   }
   SparseDirect::~SparseDirect() = default;
 
-  void SparseDirect::analyse(const int n, std::vector<int> row_start, std::vector<int> columns)
+  void SparseDirect::analyse(const int n, std::vector<int> row_start, std::vector<int> columns,
+                             const int block)
   {
     auto &m = *impl;
     m.clear();
     m.n = n;
     m.row_start = std::move(row_start);
     m.columns = std::move(columns);
-    m.symbolic = klu_analyze(n, m.row_start.data(), m.columns.data(), &m.common);
+    if (block > 1)
+      {
+        // The pattern of the blocks (a block couples to another when any
+        // of their entries do), ordered by AMD and expanded: block k's
+        // entries take its place in order. A ninth of the graph, about the
+        // same fill.
+        if (n % block != 0)
+          throw std::logic_error("SparseDirect::analyse: the size is not a multiple of the block");
+        const int nb = n / block;
+        std::vector<int> block_start(nb + 1, 0), block_columns, order(nb);
+        block_columns.reserve(m.columns.size() / (block * block) + nb);
+        for (int bi = 0; bi < nb; ++bi)
+          {
+            const auto row_begin = block_columns.size();
+            for (int i = block * bi; i < block * (bi + 1); ++i)
+              for (int k = m.row_start[i]; k < m.row_start[i + 1]; ++k)
+                block_columns.push_back(m.columns[k] / block);
+            std::sort(block_columns.begin() + static_cast<std::ptrdiff_t>(row_begin), block_columns.end());
+            block_columns.erase(std::unique(block_columns.begin() + static_cast<std::ptrdiff_t>(row_begin),
+                                            block_columns.end()),
+                                block_columns.end());
+            block_start[bi + 1] = static_cast<int>(block_columns.size());
+          }
+        if (amd_order(nb, block_start.data(), block_columns.data(), order.data(), nullptr, nullptr) != AMD_OK)
+          throw std::runtime_error("AMD could not order the tangent's block pattern");
+        std::vector<int> permutation(n);
+        for (int k = 0; k < nb; ++k)
+          for (int c = 0; c < block; ++c)
+            permutation[block * k + c] = block * order[k] + c;
+        m.symbolic = klu_analyze_given(n, m.row_start.data(), m.columns.data(), permutation.data(),
+                                       permutation.data(), &m.common);
+      }
+    else
+      m.symbolic = klu_analyze(n, m.row_start.data(), m.columns.data(), &m.common);
     if (!m.symbolic)
       throw std::runtime_error("KLU could not analyse the tangent's sparsity pattern");
     ++stats.analyses;
