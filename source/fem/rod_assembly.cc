@@ -43,19 +43,22 @@ namespace wirefem::fem
     return true;
   }
 
+  bool RodModel::Impl::closer_than(const dealii::Vector<double> &x, const contact::SegmentPair &pr,
+                                   const double cutoff) const
+  {
+    const Vec2 a0 = position(x, pr.i), a1 = position(x, pr.i + 1), b0 = position(x, pr.j),
+               b1 = position(x, pr.j + 1);
+    return contact::box_gap(a0, a1, b0, b1) < cutoff &&
+           contact::closest_points(a0, a1, b0, b1).distance < cutoff;
+  }
+
   void RodModel::Impl::near_pairs(const dealii::Vector<double> &x, const double reach,
                                   std::vector<contact::SegmentPair> &out) const
   {
     out.clear();
-    const double cutoff = diameter + reach;
     for (const auto &pr : broad.candidates())
-      {
-        const Vec2 a0 = position(x, pr.i), a1 = position(x, pr.i + 1), b0 = position(x, pr.j),
-                   b1 = position(x, pr.j + 1);
-        if (contact::box_gap(a0, a1, b0, b1) < cutoff &&
-            contact::closest_points(a0, a1, b0, b1).distance < cutoff)
-          out.push_back(pr);
-      }
+      if (closer_than(x, pr, diameter + reach))
+        out.push_back(pr);
   }
 
   bool RodModel::Impl::pattern_covers(const dealii::Vector<double> &x) const
@@ -64,10 +67,7 @@ namespace wirefem::fem
     auto in = sp_pairs.begin();
     for (const auto &pr : broad.candidates())
       {
-        const Vec2 a0 = position(x, pr.i), a1 = position(x, pr.i + 1), b0 = position(x, pr.j),
-                   b1 = position(x, pr.j + 1);
-        if (contact::box_gap(a0, a1, b0, b1) >= diameter ||
-            contact::closest_points(a0, a1, b0, b1).distance >= diameter)
+        if (!closer_than(x, pr, diameter))
           continue;
         while (in != sp_pairs.end() && *in < pr)
           ++in;

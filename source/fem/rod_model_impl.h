@@ -202,6 +202,8 @@ namespace wirefem::fem
     std::vector<contact::SegmentPair> sp_pairs;
     bool pattern_stale = false;
     double pattern_margin = 0;
+    /// Whether the segments of a pair at positions `u` are closer than cutoff.
+    bool closer_than(const dealii::Vector<double> &u, const contact::SegmentPair &pr, double cutoff) const;
     /// The candidate pairs of positions `u` closer than diameter + reach.
     void near_pairs(const dealii::Vector<double> &u, double reach,
                     std::vector<contact::SegmentPair> &out) const;
