@@ -163,8 +163,7 @@ namespace wirefem::fem
             x.u1[3 * pr.i] = to.x;
             x.u1[3 * pr.i + 1] = to.y;
             x.update();
-            r.touching =
-                contact::closest_points(to, m.position(x.u1, pr.i + 1), b0, b1).distance < m.diameter;
+            r.touching = m.closer_than(x.u1, pr, m.diameter);
             r.tangent_error = tangent_error(m, rq, x);
             r.in_pattern_after = std::binary_search(m.sp_pairs.begin(), m.sp_pairs.end(), pr);
             break;
@@ -181,9 +180,10 @@ namespace wirefem::fem
     {
       double error = -1.0;
       auto &m = *rod.impl;
+      bool done = false; // at the first attempt only (the probe must not reset itself while it runs)
       m.predictor_probe = [&](const AssemblyRequest &rq, StepState &x) {
-        m.predictor_probe = nullptr;
-        error = tangent_error(m, rq, x);
+        if (!std::exchange(done, true))
+          error = tangent_error(m, rq, x);
       };
       rod.step();
       m.predictor_probe = nullptr;

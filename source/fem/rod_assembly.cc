@@ -151,11 +151,6 @@ namespace wirefem::fem
         // candidate pairs within pattern_margin of contact when it was
         // built; it is built anew when the free range changes or a pair
         // that can touch (closer than the contact distance) is not in it.
-        // A loaded model first rebuilds the saved pattern, so that it orders
-        // and rounds as the run it continues.
-        if (pattern_stale && sp_first >= 0)
-          rebuild_sparsity(sp_first, sp_last, sp_pairs);
-        pattern_stale = false;
         if (rq.first != sp_first || rq.last != sp_last || !pattern_covers(*rq.u))
           {
             std::vector<contact::SegmentPair> near;

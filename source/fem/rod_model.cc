@@ -343,7 +343,10 @@ namespace wirefem::fem
     for (const auto &pr : m.sp_pairs)
       if (pr.i < 0 || pr.j <= pr.i || static_cast<unsigned int>(pr.j) + 1 >= m.n_nodes)
         throw std::runtime_error("checkpoint does not fit this scene");
-    m.pattern_stale = true;
+    // The saved pattern, so that the run orders and rounds as the one it
+    // continues.
+    if (m.sp_first >= 0)
+      m.rebuild_sparsity(m.sp_first, m.sp_last, m.sp_pairs);
     for (auto &w : m.window)
       {
         w.injected = core::read_raw<double>(in);

@@ -195,12 +195,11 @@ namespace wirefem::fem
     /// pattern_margin of contact when it was built (evaluate()). Only these
     /// can touch before the pattern is built again, so only these enter it:
     /// the others' entries would be zeros that the factorisation fills in.
-    /// The pattern is part of the checkpoint (pattern_stale: loaded, not
-    /// yet built), and the broad phase finds every pair within the margin,
-    /// so a resumed run orders and rounds as the uninterrupted one.
+    /// The pattern is part of the checkpoint (load() builds it), and the
+    /// broad phase finds every pair within the margin, so a resumed run
+    /// orders and rounds as the uninterrupted one.
     int sp_first = -1, sp_last = -1;
     std::vector<contact::SegmentPair> sp_pairs;
-    bool pattern_stale = false;
     double pattern_margin = 0;
     /// Whether the segments of a pair at positions `u` are closer than cutoff.
     bool closer_than(const dealii::Vector<double> &u, const contact::SegmentPair &pr, double cutoff) const;
