@@ -85,7 +85,7 @@ namespace
     CLI::App app{"wirefem sweep: runs a grid over (kappa_theta, mu_st) x realizations on the MPI ranks\n"
                  "(mpirun -np N wirefem sweep FILE.prm); rerun to continue an interrupted sweep."};
     std::string file;
-    app.add_option("file", file, "Sweep file (README, Phase diagram)")->required();
+    app.add_option("file", file, "Sweep file (docs/analysis.md, Phase diagram)")->required();
     if (const int status = parse(app, argc, argv, "wirefem sweep"); status >= 0)
       return status;
     return with_exit_status("wirefem sweep", "", [&] {

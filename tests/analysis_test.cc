@@ -1,4 +1,4 @@
-// Analysis: the loop count of SPEC section 7 on hand-built wire shapes whose
+// Analysis: the loop count (docs/analysis.md) on hand-built wire shapes whose
 // loops are known, with self-contacts found from the geometry.
 #include <wirefem/analysis/observables.h>
 #include <wirefem/analysis/shape_io.h>
@@ -255,7 +255,7 @@ namespace
     EXPECT_THROW(analysis::read_shape(::testing::TempDir() + "no-such-file.csv", {}), analysis::ShapeError);
   }
 
-  // Morphology (SPEC 7): the curvature ratio A/B of the paper's footnote, its
+  // Morphology (docs/analysis.md): the curvature ratio A/B of the paper's footnote, its
   // split into where the wire is and how curved it is there, the mirror
   // symmetry and the spiral's winding, on shapes whose values are known.
 

@@ -129,7 +129,7 @@ add_test(NAME scene.hard_case_fine_chain
                  -DOUT=${SCENE_OUT}/hard_fine_chain -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
 set_tests_properties(scene.hard_case_fine_chain PROPERTIES LABELS "regression;stress")
 
-# The rod FEM on the quick scene, and its hard cases (SPEC 3, issue list):
+# The rod FEM on the quick scene, and its hard cases (docs/model.md):
 # each runs to its end, with the adaptive step recovering from Newton failures.
 add_test(NAME scene.fem_quick_runs
          COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm

@@ -1,4 +1,4 @@
-// Loop count of SPEC section 7 on the planar map of the centreline and its
+// Loop count (docs/analysis.md) on the planar map of the centreline and its
 // self-contacts (CGAL's Arrangement_2 with exact constructions, so wire
 // crossings at overlaps split edges robustly).
 #include <wirefem/analysis/observables.h>

@@ -45,7 +45,7 @@ namespace wirefem::simulation
     }
 
     /// gamma of N_l ~ phi^gamma and (phi_c, beta) of F ~ (phi_c - phi)^beta
-    /// from the run's series (README, "Fits"); null where a fit is not possible.
+    /// from the run's series (docs/analysis.md, "Fits"); null where a fit is not possible.
     void add_fits(nlohmann::json &j, const std::string &series_file, const double phi_final)
     {
       const auto c = io::read_series_columns(series_file, {"phi", "loops", "force"});

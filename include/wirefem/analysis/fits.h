@@ -1,4 +1,4 @@
-// Scaling fits of SPEC section 7, with uncertainties, by GSL's least squares.
+// Scaling fits (docs/analysis.md, Fits), with uncertainties, by GSL's least squares.
 #pragma once
 
 #include <string>

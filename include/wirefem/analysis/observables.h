@@ -13,7 +13,7 @@ namespace wirefem::analysis
   /// phi = d L / (pi r^2).
   double packing_density(double injected_length, double radius, double diameter = 1.0);
 
-  /// Number of loops (SPEC section 7): faces of the planar map of the
+  /// Number of loops (docs/analysis.md, Loops): faces of the planar map of the
   /// centreline and its self-contacts (each a chord between its two contact
   /// points) whose boundary is one contiguous stretch of wire closed by
   /// exactly one contact. A stretch zipped shut along its length (a run of

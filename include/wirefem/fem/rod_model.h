@@ -1,4 +1,4 @@
-// The geometrically exact rod FEM (SPEC section 3) behind the same Model
+// The geometrically exact rod FEM (docs/model.md) behind the same Model
 // interface as the discrete chain: Simo-Reissner (or penalty-Kirchhoff)
 // elements of degree 1-3 on a deal.II Triangulation<1,2>, the elastoplastic
 // moment-curvature law at the quadrature points, penalty contact with

@@ -1,6 +1,6 @@
 // One run of a scene: builds the model with the effects the scene calls for,
 // steps it to jamming (or another stop), observes and writes the output of
-// SPEC section 8 into the scene's output directory.
+// docs/output.md into the scene's output directory.
 #pragma once
 
 #include <wirefem/analysis/observables.h>

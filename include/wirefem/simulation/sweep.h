@@ -1,5 +1,5 @@
 // A parameter sweep over (kappa_theta, mu_st) x realizations on MPI ranks:
-// the phase diagram of SPEC section 7.
+// the phase diagram (docs/analysis.md).
 #pragma once
 
 #include <string>
@@ -7,7 +7,7 @@
 
 namespace wirefem::simulation
 {
-  /// What a sweep file (README, "Phase diagram") describes.
+  /// What a sweep file (docs/analysis.md, "Phase diagram") describes.
   struct Sweep
   {
     std::string file;                   ///< the sweep file itself
