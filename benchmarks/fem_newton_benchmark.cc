@@ -1,6 +1,7 @@
 // Cost of one Newton iteration of the rod FEM, in its parts: assembly of
-// the residual and tangent, refactorisation of the tangent (KLU, pivot
-// order kept), solve with the factors; on states of the classic scene
+// the residual and tangent, assembly of the residual alone (modified
+// Newton's iterations on kept factors: residual + solve), refactorisation
+// of the tangent (KLU, pivot order kept), solve with the factors; on states of the classic scene
 // (prm/classic.prm, seed 1) at f = 10, 25, 50 and phi = 0.3, 0.45. Each
 // benchmark reports the unknowns and the time per unknown (per_unknown).
 // The chain's step at f = 25 is wirefem_benchmarks' `full`. On the densest
@@ -112,7 +113,8 @@ namespace
 
   enum class Part
   {
-    assembly,
+    assembly, ///< residual and tangent
+    residual, ///< the residual alone (modified Newton on kept factors)
     factorisation,
     solve
   };
@@ -126,6 +128,9 @@ namespace
         {
         case Part::assembly:
           it.assemble();
+          break;
+        case Part::residual:
+          it.assemble_residual();
           break;
         case Part::factorisation:
           benchmark::DoNotOptimize(it.factorise());
@@ -236,8 +241,10 @@ namespace
 int main(int argc, char **argv)
 {
   std::istringstream sizes(std::getenv("WIREFEM_FEM_SIZES") ? std::getenv("WIREFEM_FEM_SIZES") : "10 25 50");
-  const std::pair<Part, const char *> parts[] = {
-      {Part::assembly, "assembly"}, {Part::factorisation, "factorisation"}, {Part::solve, "solve"}};
+  const std::pair<Part, const char *> parts[] = {{Part::assembly, "assembly"},
+                                                 {Part::residual, "residual"},
+                                                 {Part::factorisation, "factorisation"},
+                                                 {Part::solve, "solve"}};
   for (int radius; sizes >> radius;)
     for (const double phi : {densities[1], densities[0]})
       for (const auto &[part, name] : parts)

@@ -795,6 +795,30 @@ namespace
     return worst;
   }
 
+  /// Two runs of the same scene stepped to injected length `until`, the
+  /// one behind first (they may cut different steps): the largest distance
+  /// between their wires wherever they reach the same time (expected at
+  /// more than 500 times, with contacts in the runs).
+  double at_equal_times(fem::RodModel &a, fem::RodModel &b, const double until)
+  {
+    int compared = 0;
+    double worst = 0.0;
+    while (a.injected_length() < until)
+      {
+        if (b.time() < a.time())
+          b.step();
+        else
+          a.step();
+        if (a.time() != b.time())
+          continue;
+        worst = std::max(worst, largest_distance(a, b));
+        ++compared;
+      }
+    EXPECT_GT(a.report().n_self_contacts + a.report().n_wall_contacts, 0);
+    EXPECT_GT(compared, 500) << "states at equal times";
+    return worst;
+  }
+
   TEST(RodModel, NewtonConvergesQuadratically)
   {
     // Order estimates log(e_{k+1}/e_k) / log(e_k/e_{k-1}) from the last three
@@ -898,6 +922,52 @@ namespace
               << s_kept.kept_solves << " solves\n";
   }
 
+  TEST(RodModel, ModifiedNewtonReachesTheSameWireWithFewerFactorisations)
+  {
+    // Modified Newton reuses each step's first LU while the residual
+    // contracts tenfold per iteration; each run converges to the Newton
+    // tolerance (1e-8 EA), so wherever both reach the same time their wires
+    // agree far below a step's motion (0.025 d), and the modified run
+    // factorises less than once per iteration.
+    fem::RodModel full(contact_scene("FEM/Newton=full"));
+    fem::RodModel modified(contact_scene("FEM/Newton=modified"));
+    const double worst = at_equal_times(full, modified, 30.0);
+    // Each converged state is within the Newton tolerance (1e-5 in force)
+    // of the exact one, about 1e-8 d through the step's mass term, and such
+    // differences are carried from step to step (here up to 1e-6 d); a
+    // wrong step (a step's motion is 0.025 d) or another trajectory would
+    // show at 1e-3.
+    EXPECT_LT(worst, 1e-5) << "largest distance between the two wires (d)";
+    const auto factorised = [](const auto &s) { return s.factorisations + s.refactorisations; };
+    const auto &s_full = fem::RodModelProbe::linear_statistics(full);
+    const auto &s_mod = fem::RodModelProbe::linear_statistics(modified);
+    EXPECT_LT(factorised(s_mod), 0.7 * fem::RodModelProbe::newton_iterations(modified));
+    EXPECT_LT(factorised(s_mod), factorised(s_full));
+    std::cout << "largest distance " << worst << " d; factorisations " << factorised(s_full) << " in "
+              << fem::RodModelProbe::newton_iterations(full) << " iterations against " << factorised(s_mod)
+              << " in " << fem::RodModelProbe::newton_iterations(modified) << "\n";
+  }
+
+  TEST(RodModel, ModifiedNewtonThatAcceptsNoContractionIsFullNewtonBitForBit)
+  {
+    // With a contraction no iteration reaches, every iteration of modified
+    // Newton assembles the tangent where full Newton does, from the same
+    // state: the two runs are the same run, bit for bit. (This tests the
+    // fall-backs: a slow iteration, a rejected one, the line search.)
+    fem::RodModel full(contact_scene("FEM/Newton=full"));
+    auto sc = contact_scene("FEM/Newton=modified");
+    sc.fem.newton_contraction = 1e-300;
+    fem::RodModel modified(sc);
+    while (full.injected_length() < 20.0)
+      {
+        full.step();
+        modified.step();
+        ASSERT_EQ(full.time(), modified.time()) << "step " << full.n_steps();
+      }
+    EXPECT_EQ(largest_distance(full, modified), 0.0);
+    EXPECT_EQ(fem::RodModelProbe::newton_iterations(full), fem::RodModelProbe::newton_iterations(modified));
+  }
+
   TEST(RodModel, TheVelocityPredictorReachesTheSameWireInFewerIterations)
   {
     // The predictor is only Newton's first guess: both runs converge to
@@ -907,30 +977,15 @@ namespace
     // events, needs fewer iterations.
     fem::RodModel acc(contact_scene("FEM/Predictor=constant acceleration"));
     fem::RodModel vel(contact_scene("FEM/Predictor=constant velocity"));
-    int compared = 0;
-    double worst = 0.0;
-    while (acc.injected_length() < 30.0)
-      {
-        // The one behind steps; the runs may cut different steps.
-        if (vel.time() < acc.time())
-          vel.step();
-        else
-          acc.step();
-        if (acc.time() != vel.time())
-          continue;
-        worst = std::max(worst, largest_distance(acc, vel));
-        ++compared;
-      }
-    EXPECT_GT(acc.report().n_self_contacts + acc.report().n_wall_contacts, 0);
-    EXPECT_GT(compared, 500) << "states at equal times";
+    const double worst = at_equal_times(acc, vel, 30.0);
     // A wrong predictor term in the converged state (a step's motion is
     // 0.025 d) or a different trajectory would show at 1e-6.
     EXPECT_LT(worst, 1e-6) << "largest distance between the two wires (d)";
     const auto its_acc = fem::RodModelProbe::newton_iterations(acc);
     const auto its_vel = fem::RodModelProbe::newton_iterations(vel);
     EXPECT_LT(its_vel, its_acc) << "Newton iterations, those of cut steps included";
-    std::cout << "largest distance " << worst << " d over " << compared << " states; Newton iterations "
-              << its_acc << " against " << its_vel << "\n";
+    std::cout << "largest distance " << worst << " d; Newton iterations " << its_acc << " against " << its_vel
+              << "\n";
   }
 
   TEST(RodModel, OverlapGrowthCutsTheStepsThatCrossAnImpact)
@@ -977,6 +1032,18 @@ namespace
         << "no step cut for overlap growth after the checkpoint";
     EXPECT_EQ(straight.n_steps(), resumed.n_steps());
     EXPECT_EQ(fem::RodModelProbe::overlap_cuts(straight), fem::RodModelProbe::overlap_cuts(resumed));
+    EXPECT_EQ(straight.time(), resumed.time());
+    EXPECT_EQ(largest_distance(straight, resumed), 0.0);
+  }
+
+  TEST(RodModel, ModifiedNewtonSavesAndLoadsBitForBit)
+  {
+    // Every step starts from a tangent at its predictor, so no factors
+    // outlive a step and the checkpoint holds all that the run depends on.
+    const auto s = contact_scene("FEM/Newton=modified");
+    fem::RodModel straight(s), first(s), resumed(s);
+    checks::run_straight_and_resumed(straight, first, resumed, 38.0, 45.0);
+    EXPECT_EQ(straight.n_steps(), resumed.n_steps());
     EXPECT_EQ(straight.time(), resumed.time());
     EXPECT_EQ(largest_distance(straight, resumed), 0.0);
   }

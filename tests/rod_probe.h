@@ -16,9 +16,10 @@ namespace wirefem::fem
   {
     /// One Newton iteration of the rod's next implicit step, in its parts
     /// (for the benchmarks): at the step's predictor, assemble the residual
-    /// and tangent, factorise the tangent (after the first time with the
-    /// pivot order kept, as Newton does), solve with the factors. The model
-    /// is not advanced.
+    /// and tangent (or the residual alone, as modified Newton does on kept
+    /// factors), factorise the tangent (after the first time with the pivot
+    /// order kept, as Newton does), solve with the factors. The model is
+    /// not advanced.
     class NewtonIteration
     {
     public:
@@ -36,6 +37,8 @@ namespace wirefem::fem
       NewtonIteration &operator=(const NewtonIteration &) = delete;
 
       void assemble() { m.evaluate(rq, e); }
+      /// The residual alone (an iteration of modified Newton on kept factors).
+      void assemble_residual() { m.evaluate(rq.without_tangent(), e); }
       bool factorise() { return m.factorise_K(); }
       bool solve() { return m.solve_factorised(rhs, dx); }
       unsigned int unknowns() const { return rhs.size(); }

@@ -120,6 +120,9 @@ namespace
              {{"Model=fem", "Contact/Friction/Surface torque=true"},
               "Contact/Friction/Surface torque",
               "Model = discrete only"},
+             {{"Model=fem", "FEM/Newton=modified", "FEM/Linear solver=kept factors"},
+              "FEM/Newton",
+              "needs FEM/Linear solver = refactorise"},
          })
       {
         const auto msg = error_of(f, c.overrides);

@@ -89,8 +89,11 @@ namespace wirefem::fem
     if (const char *log = std::getenv("WIREFEM_NEWTON_LOG"); log && std::string(log) == "all")
       std::cerr << fmt::format("t = {:.5g}: step {:.3g} converged; residuals{}\n", m.t, step,
                                m.residual_history());
-    // Grow the step again when Newton had an easy time.
-    m.dt = m.history.size() <= 4 ? std::min(m.dt_max, 1.5 * step) : step;
+    // Grow the step again when Newton had an easy time: at most three
+    // iterations, or (modified Newton) at most two tangents in five.
+    const std::size_t iterations = m.history.size() - 1;
+    const bool easy = iterations <= 3 || (m.modified_newton && m.step_tangents <= 2 && iterations <= 5);
+    m.dt = easy ? std::min(m.dt_max, 1.5 * step) : step;
   }
 
   double RodModel::time() const

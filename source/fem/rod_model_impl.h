@@ -188,6 +188,11 @@ namespace wirefem::fem
     /// Steps that failed with kept factors and were tried again with a
     /// factorisation per iteration.
     unsigned long retried_steps = 0;
+    /// FEM/Newton = modified, on the injection set-up: a step's LU is
+    /// reused while Newton contracts by newton_contraction or better.
+    bool modified_newton = false;
+    double newton_contraction = 0.1;
+    unsigned int step_tangents = 0; ///< tangents factorised in the last step
     /// Solves with the factors of the last factorise_K().
     bool solve_factorised(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
     /// K's pattern: the elements of the free range [sp_first, sp_last) and
@@ -409,6 +414,20 @@ namespace wirefem::fem
     /// tangent in K. Returns its residual norm.
     double newton_update(const AssemblyRequest &rq, StepState &x, const dealii::Vector<double> &dx,
                          double res, Evaluation &e, Evaluation &trial);
+    /// x.u1 = u_start + lambda dx on the free dofs, and its kinematics.
+    void move_along(const AssemblyRequest &rq, StepState &x, const dealii::Vector<double> &u_start,
+                    const dealii::Vector<double> &dx, double lambda) const;
+    /// Backtracking from u_start along dx (Armijo on the max norm, up to
+    /// five halvings, residual only); leaves x.u1 at the last point tried.
+    void backtrack(const AssemblyRequest &rq, StepState &x, const dealii::Vector<double> &u_start,
+                   const dealii::Vector<double> &dx, double res, Evaluation &trial);
+    /// newton_update for FEM/Newton = modified. fresh: whether dx was
+    /// solved with the tangent at x.u1; on return, whether K holds the
+    /// tangent at the new x.u1 (then its factors are to be made), else the
+    /// next solve reuses the factors. e holds the evaluation at the new
+    /// x.u1. Returns its residual norm.
+    double modified_update(const AssemblyRequest &rq, StepState &x, const dealii::Vector<double> &dx,
+                           double res, bool &fresh, Evaluation &e, Evaluation &trial);
     /// The predictor of an implicit step of length `step` (free range
     /// [first, last)), with its kinematics.
     void predict(double step, int first, int last, StepState &x) const;

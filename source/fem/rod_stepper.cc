@@ -129,37 +129,86 @@ namespace wirefem::fem
     broad.update(xs, first - 1, last + 1);
   }
 
+  void RodModel::Impl::move_along(const AssemblyRequest &rq, StepState &x,
+                                  const dealii::Vector<double> &u_start, const dealii::Vector<double> &dx,
+                                  const double lambda) const
+  {
+    const int lo = 3 * rq.first, nw = 3 * (rq.last - rq.first);
+    for (int i = 0; i < nw; ++i)
+      x.u1[lo + i] = u_start[lo + i] + lambda * dx[i];
+    x.update();
+  }
+
+  void RodModel::Impl::backtrack(const AssemblyRequest &rq, StepState &x,
+                                 const dealii::Vector<double> &u_start, const dealii::Vector<double> &dx,
+                                 const double res, Evaluation &trial)
+  {
+    // Armijo on the max norm, halving the update up to five times; the
+    // residual only (the caller assembles the tangent where it stops).
+    double lambda = 1.0;
+    for (int ls = 0; ls < 5; ++ls)
+      {
+        lambda *= 0.5;
+        move_along(rq, x, u_start, dx, lambda);
+        evaluate(rq.without_tangent(), trial);
+        if (free_residual_norm(trial, rq.first, rq.last) < (1.0 - 1e-4 * lambda) * res)
+          break;
+      }
+  }
+
   double RodModel::Impl::newton_update(const AssemblyRequest &rq, StepState &x,
                                        const dealii::Vector<double> &dx, const double res, Evaluation &e,
                                        Evaluation &trial)
   {
     // Full Newton update, with the tangent there; if the residual does not
-    // drop, backtrack (Armijo on the max norm) and re-linearise (unless
-    // line_search is off: then always the full update).
-    auto &u1 = x.u1;
-    const int lo = 3 * rq.first, nw = 3 * (rq.last - rq.first);
-    const dealii::Vector<double> u_start(u1);
-    double lambda = 1.0;
-    for (int i = 0; i < nw; ++i)
-      u1[lo + i] = u_start[lo + i] + dx[i];
-    x.update();
+    // drop, backtrack and re-linearise (unless line_search is off: then
+    // always the full update).
+    const dealii::Vector<double> u_start(x.u1);
+    move_along(rq, x, u_start, dx, 1.0);
     evaluate(rq, trial);
-    double r_new = free_residual_norm(trial, rq.first, rq.last);
+    const double r_new = free_residual_norm(trial, rq.first, rq.last);
     if (!line_search || r_new < (1.0 - 1e-4) * res)
       {
         std::swap(e, trial);
         return r_new;
       }
-    for (int ls = 0; ls < 5; ++ls)
+    backtrack(rq, x, u_start, dx, res, trial);
+    evaluate(rq, e);
+    return free_residual_norm(e, rq.first, rq.last);
+  }
+
+  double RodModel::Impl::modified_update(const AssemblyRequest &rq, StepState &x,
+                                         const dealii::Vector<double> &dx, const double res, bool &fresh,
+                                         Evaluation &e, Evaluation &trial)
+  {
+    // The update, and the residual alone there: converged, or contracted
+    // enough that the next solve may reuse the factors (no tangent needed).
+    const dealii::Vector<double> u_start(x.u1);
+    move_along(rq, x, u_start, dx, 1.0);
+    evaluate(rq.without_tangent(), trial);
+    const double r_new = free_residual_norm(trial, rq.first, rq.last);
+    const bool was_fresh = fresh;
+    fresh = true;
+    if (r_new <= newton_tolerance || r_new <= newton_contraction * res)
       {
-        lambda *= 0.5;
-        for (int i = 0; i < nw; ++i)
-          u1[lo + i] = u_start[lo + i] + lambda * dx[i];
+        std::swap(e, trial);
+        fresh = false;
+        return r_new;
+      }
+    if (r_new < (1.0 - 1e-4) * res || (was_fresh && !line_search))
+      {
+        // Progress, but slow: a tangent at the state reached.
+        evaluate(rq, e);
+        return r_new;
+      }
+    if (was_fresh)
+      backtrack(rq, x, u_start, dx, res, trial);
+    else
+      {
+        // The kept factors no longer point downhill: a tangent where the
+        // update started.
+        x.u1 = u_start;
         x.update();
-        evaluate(rq.without_tangent(), trial);
-        r_new = free_residual_norm(trial, rq.first, rq.last);
-        if (r_new < (1.0 - 1e-4 * lambda) * res)
-          break;
       }
     evaluate(rq, e);
     return free_residual_norm(e, rq.first, rq.last);
@@ -177,6 +226,8 @@ namespace wirefem::fem
     auto residual_norm = [&](const Evaluation &ev) { return free_residual_norm(ev, first, last); };
 
     history.clear();
+    step_tangents = 0;
+    bool fresh = true; // K is the tangent at x.u1, to be factorised
     Evaluation e, trial;
     dealii::Vector<double> rhs(nw), dx(nw);
     evaluate(rq, e);
@@ -212,12 +263,14 @@ namespace wirefem::fem
           // small fraction of the nonlinear one, or of the tolerance.
           const double linear_tolerance =
               kept ? std::max(scene.fem.linear_tolerance * rhs.l2_norm(), scene.fem.linear_floor * tol) : 0.0;
-          if (!solve_linear(rhs, dx, linear_tolerance))
+          step_tangents += fresh ? 1 : 0;
+          if (!(fresh ? solve_linear(rhs, dx, linear_tolerance) : solve_factorised(rhs, dx)))
             return StepOutcome::not_converged;
           ++newton_iterations;
         }
         expand_trailing_end(dx);
-        res = newton_update(rq, x, dx, res, e, trial);
+        res = modified_newton ? modified_update(rq, x, dx, res, fresh, e, trial)
+                              : newton_update(rq, x, dx, res, e, trial);
         history.push_back(res);
       }
     return StepOutcome::not_converged;

@@ -244,6 +244,8 @@ namespace wirefem::scene
     double linear_tolerance = 1e-9;     ///< GMRES's, relative to the Newton residual
     double linear_floor = 1e-3;         ///< GMRES's, relative to the Newton tolerance
     unsigned int krylov_iterations = 8; ///< GMRES iterations before a refactorisation
+    bool modified_newton = false;       ///< reuse a step's first LU while Newton contracts fast
+    double newton_contraction = 0.1;    ///< modified Newton: largest residual ratio on kept factors
     bool spring_friction = false;       ///< the discrete model's friction law (capstan only)
     /// eta_a (force time): axial dashpot N_v = eta_a d(eps)/dt; from the
     /// scene file, or the discrete model's dashpot in its continuum limit
