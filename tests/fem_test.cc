@@ -953,7 +953,8 @@ namespace
     // With a contraction no iteration reaches, every iteration of modified
     // Newton assembles the tangent where full Newton does, from the same
     // state: the two runs are the same run, bit for bit. (This tests the
-    // fall-backs: a slow iteration, a rejected one, the line search.)
+    // fall-back to a tangent after a slow iteration, and the line search
+    // after a fresh tangent; no solve reuses factors here.)
     fem::RodModel full(contact_scene("FEM/Newton=full"));
     auto sc = contact_scene("FEM/Newton=modified");
     sc.fem.newton_contraction = 1e-300;

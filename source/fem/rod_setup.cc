@@ -222,7 +222,8 @@ namespace wirefem::fem
     inertia = integrator != scene::Integrator::quasi_static;
     newton_tolerance = s.fem.newton_tolerance * w.axial_stiffness;
     kept_factors = s.fem.kept_factors && !clamped && !capstan;
-    modified_newton = s.fem.modified_newton && !clamped && !capstan;
+    // Its reused factors must come from direct solves of this step.
+    modified_newton = s.fem.modified_newton && !kept_factors && !clamped && !capstan;
     newton_contraction = s.fem.newton_contraction;
     velocity_predictor = s.fem.velocity_predictor;
     overlap_growth = clamped || capstan ? 0.0 : s.fem.overlap_growth;
