@@ -29,12 +29,12 @@
 #include <klu.h>
 #include <umfpack.h>
 
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <array>
 #include <sstream>
 #include <string>
 

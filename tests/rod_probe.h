@@ -48,16 +48,8 @@ namespace wirefem::fem
       /// start of each row, the column and the value of each entry.
       void matrix(std::vector<int> &row_start, std::vector<int> &columns, std::vector<double> &values) const
       {
-        const auto &sp = m.sparsity;
-        row_start.assign(1, 0);
-        columns.clear();
-        for (unsigned int i = 0; i < sp.n_rows(); ++i)
-          {
-            for (auto it = sp.begin(i); it != sp.end(i); ++it)
-              columns.push_back(static_cast<int>(it->column()));
-            std::sort(columns.begin() + row_start.back(), columns.end());
-            row_start.push_back(static_cast<int>(columns.size()));
-          }
+        row_start = m.lu.row_start();
+        columns = m.lu.columns();
         values = m.lu_values;
       }
 

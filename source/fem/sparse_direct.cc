@@ -237,6 +237,16 @@ namespace wirefem::fem
     return impl->symbolic && row_start == impl->row_start && columns == impl->columns;
   }
 
+  const std::vector<int> &SparseDirect::row_start() const
+  {
+    return impl->row_start;
+  }
+
+  const std::vector<int> &SparseDirect::columns() const
+  {
+    return impl->columns;
+  }
+
   bool SparseDirect::factorise(const std::vector<double> &values)
   {
     auto &m = *impl;

@@ -37,6 +37,10 @@ namespace wirefem::fem
 
     /// Whether the pattern is that of the last analyse().
     bool same_pattern(const std::vector<int> &row_start, const std::vector<int> &columns) const;
+    /// The pattern of the last analyse(): the start of each row (n + 1
+    /// entries) and the column of each entry, sorted within rows.
+    const std::vector<int> &row_start() const;
+    const std::vector<int> &columns() const;
 
     /// Factorises the matrix with these values (one per entry of the
     /// pattern). Returns false when it is singular.
