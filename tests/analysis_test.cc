@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <random>
 #include <string>
 
 namespace
@@ -195,6 +196,98 @@ namespace
     const auto w = zipped_hairpin().state();
     ASSERT_GT(w.self_contacts.size(), 20u);
     EXPECT_EQ(analysis::count_loops(w), 1);
+  }
+
+  TEST(Loops, PlanarTracingAgreesWithTheArrangement)
+  {
+    // The face tracing of the planar graph against CGAL's arrangement with
+    // exact constructions: on random cascades of teardrops and random
+    // spirals (their contacts from the geometry fan out from each piece,
+    // so chords cross) and on random smooth curves that also cross
+    // themselves: both split at the crossings. The tracing must apply to
+    // nearly all (it declines only for degenerate touching), and agree.
+    std::vector<core::WireState> planar_shapes = {zipped_hairpin().state()};
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int trial = 0; trial < 20; ++trial)
+      {
+        Path cascade({-6.0, 0.0});
+        const int k = 1 + trial % 5;
+        for (int i = 0; i < k; ++i)
+          teardrop_up(cascade, 9.0 * i, 1.0 + 3.0 * u(rng), 1.5 + 2.5 * u(rng));
+        cascade.line_to({9.0 * k, 0.0});
+        planar_shapes.push_back(cascade.state());
+        Path spiral({2.0, 0.0});
+        const double pitch = 0.8 + 0.15 * u(rng), turns = 1.5 + 3.0 * u(rng);
+        for (double theta = 0.0; theta < 2.0 * M_PI * turns;)
+          {
+            theta += 0.2 / (2.0 + pitch * theta / (2.0 * M_PI));
+            const double r = 2.0 + pitch * theta / (2.0 * M_PI);
+            spiral.line_to({r * std::cos(theta), r * std::sin(theta)});
+          }
+        planar_shapes.push_back(spiral.state());
+      }
+    int loops_seen = 0;
+    for (const auto &w : planar_shapes)
+      {
+        const int planar = analysis::count_loops_planar(w);
+        EXPECT_GE(planar, 0) << "a shape without degenerate touching was not traced";
+        EXPECT_EQ(planar, analysis::count_loops_arrangement(w));
+        loops_seen += planar;
+      }
+    EXPECT_GT(loops_seen, 40);
+    int traced = 0, walk_loops = 0;
+    for (int trial = 0; trial < 30; ++trial)
+      {
+        // A random smooth walk: heading driven by a random turning rate.
+        Path walk({0.0, 0.0});
+        Vec2 x{0.0, 0.0};
+        double heading = 0.0, turning = 0.0;
+        for (int step = 0; step < 400; ++step)
+          {
+            turning = 0.9 * turning + 0.25 * (u(rng) - 0.5);
+            heading += turning;
+            x = x + Vec2{0.2 * std::cos(heading), 0.2 * std::sin(heading)};
+            walk.line_to(x);
+          }
+        const auto w = walk.state();
+        const int planar = analysis::count_loops_planar(w);
+        const int reference = analysis::count_loops_arrangement(w);
+        if (planar >= 0)
+          {
+            ++traced;
+            EXPECT_EQ(planar, reference) << "walk " << trial;
+          }
+        walk_loops += reference;
+        EXPECT_EQ(analysis::count_loops(w), reference);
+      }
+    EXPECT_GE(traced, 27);
+    EXPECT_GT(walk_loops, 10);
+  }
+
+  TEST(Loops, TouchingPiecesAndLongEdgesGoTheirOwnWays)
+  {
+    // A wire folded back exactly onto itself (collinear pieces overlapping)
+    // is no planar straight-line graph: the tracing declines and count_loops
+    // takes the arrangement's count. A cascade with one long diagonal tail
+    // spreads over more grid cells than the pair finder allows itself: its
+    // candidates come from the box tree, with the same count.
+    Path folded({0.0, 0.0});
+    folded.line_to({8.0, 0.0}).line_to({3.0, 0.0}).arc({3.0, 2.0}, -M_PI).line_to({8.0, 4.0});
+    const auto f = folded.state();
+    ASSERT_FALSE(f.self_contacts.empty());
+    EXPECT_EQ(analysis::count_loops_planar(f), -1);
+    EXPECT_EQ(analysis::count_loops(f), analysis::count_loops_arrangement(f));
+    Path tail({-6.0, 0.0});
+    for (int i = 0; i < 3; ++i)
+      teardrop_up(tail, 9.0 * i, 1.5 + i, 3.0 - 0.3 * i);
+    tail.line_to({27.0, 0.0});
+    auto w = tail.state();
+    w.points.push_back(w.points.back() + Vec2{3000.0, 3000.0});
+    w.arc_length.push_back(w.arc_length.back() + 3000.0 * std::sqrt(2.0));
+    const int planar = analysis::count_loops_planar(w);
+    EXPECT_EQ(planar, 3);
+    EXPECT_EQ(planar, analysis::count_loops_arrangement(w));
   }
 
   TEST(Loops, ContactsFromGeometryRespectTheExclusionLength)

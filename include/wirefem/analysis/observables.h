@@ -22,6 +22,17 @@ namespace wirefem::analysis
   /// hanging into it, the gap between two touching strands) is not one.
   int count_loops(const core::WireState &wire);
 
+  /// count_loops on the planar graph of the wire and its chords, traced
+  /// face by face: segments that cross properly are split at their
+  /// crossing point (rounded); -1 when segments overlap, touch other than
+  /// at a common end, or the rounding leaves them so (exact predicates).
+  /// count_loops falls back to the arrangement then.
+  int count_loops_planar(const core::WireState &wire);
+
+  /// count_loops through CGAL's arrangement with exact constructions alone
+  /// (crossings split edges): the fall-back, and the tests' reference.
+  int count_loops_arrangement(const core::WireState &wire);
+
   /// The self-contacts of a wire from its geometry alone: pieces of the
   /// centreline closer than d whose rest arc lengths are more than
   /// `exclusion_length` apart, one contact per pair of pieces (a contact at
