@@ -20,7 +20,7 @@ run() { # DIR ARGS...
   local dir=$1
   shift
   [ -f "$dir/summary.json" ] && return
-  "$exe" "$scene" "$@" --set Output/Directory="$dir" --set Output/Progress=off \
+  "$exe" "$scene" "$@" --replace --set Output/Directory="$dir" --set Output/Progress=off \
     --set "Output/VTU interval=0" > "$dir.log" 2>&1
 }
 for seed in $seeds; do

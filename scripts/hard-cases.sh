@@ -25,7 +25,7 @@ for c in "${cases[@]}"; do
   name=${c%%|*}; setting=${c#*|}
   dir="$out/$(printf %s "$name" | tr -c 'a-zA-Z0-9_' '_')"
   extra=(); [ -n "$setting" ] && extra=(--set "$setting")
-  "$exe" "$scene" "$@" "${extra[@]}" --set Output/Directory="$dir" --set Output/Progress=off \
+  "$exe" "$scene" "$@" "${extra[@]}" --replace --set Output/Directory="$dir" --set Output/Progress=off \
     --set "Output/VTU interval=0" > "$dir.log" 2>&1
   rc=$?
   python3 - "$dir/summary.json" "$name" "$rc" <<'PY'

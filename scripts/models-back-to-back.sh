@@ -19,7 +19,7 @@ mkdir -p "$out"
 for r in $(seq 1 "$repeat"); do
   for model in discrete fem; do
     dir="$out/${model}_$r"
-    "$exe" "$scene" "$@" --set Model=$model --set Output/Directory="$dir" --set Output/Progress=off \
+    "$exe" "$scene" "$@" --set Model=$model --replace --set Output/Directory="$dir" --set Output/Progress=off \
       --set "Output/VTU interval=0" > "$dir.log" 2>&1
     echo "$?" > "$dir.rc"
   done

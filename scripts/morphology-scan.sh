@@ -32,7 +32,7 @@ run_case() { # name, overrides; the scene's extra arguments are in extra_q
     s=$(printf %s "$s" | sed 's/^[[:space:]]*//; s/[[:space:]]*$//')
     [ -n "$s" ] && extra+=(--set "$s")
   done
-  "$exe" "$scene" "${extra[@]}" --set Output/Directory="$dir" --set Output/Progress=off \
+  "$exe" "$scene" "${extra[@]}" --replace --set Output/Directory="$dir" --set Output/Progress=off \
     --set "Output/VTU interval=0" > "$dir.log" 2>&1
   echo $? > "$dir.rc" # the table trusts only the output of this run
 }

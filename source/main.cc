@@ -2,6 +2,7 @@
 // Exit status: 0 finished, 2 bad input, 3 stopped by a numerical limit,
 // 130 interrupted (a checkpoint was written; continue with --resume).
 #include <wirefem/analysis/shape_io.h>
+#include <wirefem/core/printable.h>
 #include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/cantilever.h>
 #include <wirefem/simulation/capstan.h>
@@ -37,9 +38,11 @@ namespace
   }
 
   /// Runs `body` under the exit-status contract: bad input
-  /// (core::InputError) 2, anything else 3, reported as "NAME: error: [CONTEXT: ]...".
+  /// (core::InputError) 2, anything else 3, reported as "NAME: error:
+  /// [CONTEXT: ]..." on one line (unless quiet: another MPI rank reports).
   template <typename Body>
-  int with_exit_status(const std::string &name, const std::string &context, Body &&body)
+  int with_exit_status(const std::string &name, const std::string &context, Body &&body,
+                       const bool quiet = false)
   {
     try
       {
@@ -47,12 +50,14 @@ namespace
       }
     catch (const wirefem::core::InputError &e)
       {
-        std::cerr << name << ": error: " << e.what() << '\n';
+        if (!quiet)
+          std::cerr << name << ": error: " << wirefem::core::printable(e.what()) << '\n';
         return 2;
       }
     catch (const std::exception &e)
       {
-        std::cerr << name << ": error: " << context << e.what() << '\n';
+        if (!quiet)
+          std::cerr << name << ": error: " << wirefem::core::printable(context + e.what()) << '\n';
         return 3;
       }
   }
@@ -88,9 +93,19 @@ namespace
     app.add_option("file", file, "Sweep file (docs/analysis.md, Phase diagram)")->required();
     if (const int status = parse(app, argc, argv, "wirefem sweep"); status >= 0)
       return status;
-    return with_exit_status("wirefem sweep", "", [&] {
-      return wirefem::simulation::run_sweep(wirefem::simulation::read_sweep(file));
-    });
+    // Every rank reads the same file and meets the same error: rank 0 says it.
+    const bool quiet = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0;
+    wirefem::simulation::Sweep sweep;
+    const int read = with_exit_status(
+        "wirefem sweep", "",
+        [&] {
+          sweep = wirefem::simulation::read_sweep(file);
+          return -1;
+        },
+        quiet);
+    if (read >= 0)
+      return read;
+    return with_exit_status("wirefem sweep", "", [&] { return wirefem::simulation::run_sweep(sweep); });
   }
 } // namespace
 
@@ -109,7 +124,7 @@ int main(int argc, char **argv)
   std::string prm_file;
   std::vector<std::string> overrides;
   bool print = false;
-  bool resume = false;
+  bool resume = false, replace = false;
   app.add_option("scene", prm_file, "Scene file (.prm, deal.II ParameterHandler format)");
   app.add_option("--set", overrides, "Override a key: \"Section/Key=value\" (repeatable)")
       ->allow_extra_args(false)
@@ -117,6 +132,8 @@ int main(int argc, char **argv)
   app.set_version_flag("--version", std::string("wirefem ") + wirefem::version());
   app.add_flag("--print-parameters", print, "Print every key with its default and documentation");
   app.add_flag("--resume", resume, "Continue an interrupted run from its output directory's checkpoint.bin");
+  app.add_flag("--replace", replace,
+               "Start over in an output directory that holds an earlier run, deleting that run's files");
   if (const int status = parse(app, argc, argv, "wirefem"); status >= 0)
     return status;
   if (print)
@@ -132,10 +149,10 @@ int main(int argc, char **argv)
   return with_exit_status("wirefem", "", [&] {
     const auto scene = wirefem::scene::read_scene(prm_file, overrides);
     if (scene.setup == wirefem::scene::Setup::cantilever)
-      return wirefem::simulation::run_cantilever(scene).converged ? 0 : 3;
+      return wirefem::simulation::run_cantilever(scene, {resume, replace}).converged ? 0 : 3;
     if (scene.setup == wirefem::scene::Setup::capstan)
-      return wirefem::simulation::run_capstan(scene).finished ? 0 : 3;
-    const auto result = wirefem::simulation::run(scene, {resume});
+      return wirefem::simulation::run_capstan(scene, {resume, replace}).finished ? 0 : 3;
+    const auto result = wirefem::simulation::run(scene, {resume, replace});
     return result.interrupted ? 130 : (result.failed ? 3 : 0);
   });
 }

@@ -5,7 +5,7 @@ set(extra)
 if(MODEL)
   set(extra --set ${MODEL})
 endif()
-execute_process(COMMAND ${EXE} ${PRM} --set ${SETTING} ${extra} --set Output/Directory=${OUT} --set Output/Progress=off
+execute_process(COMMAND ${EXE} ${PRM} --set ${SETTING} ${extra} --replace --set Output/Directory=${OUT} --set Output/Progress=off
                 RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_VARIABLE out)
 message("${out}")
 if(NOT rc EQUAL 0)

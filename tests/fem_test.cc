@@ -1187,7 +1187,7 @@ namespace
   simulation::CapstanResult run_capstan_in(scene::Scene s, const std::string &name)
   {
     s.output.directory = testing::TempDir() + name;
-    return simulation::run_capstan(s);
+    return simulation::run_capstan(s, {false, true}); // replaces an earlier test run
   }
 
   double statistic(const core::Model &m, const std::string &key)

@@ -273,7 +273,7 @@ namespace
       w.write_row({2.0, 3.0}); // after the checkpoint: dropped on resume
     }
     {
-      wirefem::io::SeriesWriter w(file, {"time", "x"}, t);
+      wirefem::io::SeriesWriter w(file, {"time", "x"}, t, 2);
       w.write_row({2.0, 4.0});
     }
     std::ifstream in(file);
@@ -294,7 +294,7 @@ namespace
       wirefem::io::SeriesWriter w(file, {"time", "x"});
       w.write_row({1.0, 1.0});
     }
-    EXPECT_THROW(wirefem::io::SeriesWriter(file, {"time", "x", "y"}, 1.0), wirefem::io::SeriesColumnsError);
+    EXPECT_THROW(wirefem::io::SeriesWriter(file, {"time", "x", "y"}, 1.0, 1), wirefem::io::SeriesResumeError);
     std::ifstream in(file);
     std::vector<std::string> lines;
     for (std::string l; std::getline(in, l);)
@@ -302,5 +302,42 @@ namespace
     ASSERT_EQ(lines.size(), 2u);
     EXPECT_EQ(lines[0], "time,x");
     EXPECT_EQ(lines[1], "1,1");
+  }
+
+  TEST(SeriesWriter, ResumeRefusesAFileThatIsNotTheCheckpointsAndLeavesIt)
+  {
+    // The checkpoint counted three rows up to t = 3: a file with fewer (a
+    // run started over in the directory), a damaged row among them, or no
+    // file at all is refused, and the file stays byte for byte as it was.
+    const std::string file = ::testing::TempDir() + "series_resume_rows.csv";
+    auto write = [&](const std::string &text) { std::ofstream(file) << text; };
+    auto read = [&] {
+      std::ifstream in(file);
+      return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const std::vector<std::string> cases = {"time,x\n1,1\n2,2\n",         // a row short
+                                            "time,x\n1,1\n2,2\n4,4\n",    // another run's rows
+                                            "time,x\n1,1\n2,\xff\n3,3\n", // damaged
+                                            "time,x\n1,1\nnan,2\n3,3\n",  // a time not finite
+                                            "time,x\n1,1\n2\n3,3\n"};     // a value missing
+    for (const auto &text : cases)
+      {
+        write(text);
+        EXPECT_THROW(wirefem::io::SeriesWriter(file, {"time", "x"}, 3.0, 3), wirefem::io::SeriesResumeError)
+            << text;
+        EXPECT_EQ(read(), text);
+      }
+    std::filesystem::remove(file);
+    EXPECT_THROW(wirefem::io::SeriesWriter(file, {"time", "x"}, 3.0, 3), wirefem::io::SeriesResumeError);
+    EXPECT_FALSE(std::filesystem::exists(file));
+    // The checkpoint's rows (inf and nan are values the writer prints), and
+    // a damaged row after them: cut with the rest.
+    write("time,x\n1,1\n2,inf\n3,nan\n4,\n");
+    {
+      wirefem::io::SeriesWriter w(file, {"time", "x"}, 3.0, 3);
+      w.write_row({4.0, 4.0});
+    }
+    EXPECT_EQ(read(), "time,x\n1,1\n2,inf\n3,nan\n4,4\n");
+    EXPECT_FALSE(std::filesystem::exists(file + ".tmp"));
   }
 } // namespace

@@ -48,7 +48,7 @@ namespace
     EXPECT_EQ(s.output.directory, "output/wirefem_scene_ok");
   }
 
-  TEST(Scene, FingerprintHoldsEveryKeyOutsideOutput)
+  TEST(Scene, FingerprintHoldsEveryKeyButWhereOutputGoes)
   {
     const auto base = read_scene("", {});
     // One line per key of --print-parameters outside the Output subsection.
@@ -78,7 +78,11 @@ namespace
           ++keys;
       }
     EXPECT_GT(keys, 60);
-    EXPECT_EQ(std::count(base.fingerprint.begin(), base.fingerprint.end(), '\n'), keys) << base.fingerprint;
+    // ... and the two Output keys that set what the files hold.
+    EXPECT_EQ(std::count(base.fingerprint.begin(), base.fingerprint.end(), '\n'), keys + 2)
+        << base.fingerprint;
+    EXPECT_NE(read_scene("", {"Output/Interval=2"}).fingerprint, base.fingerprint);
+    EXPECT_NE(read_scene("", {"Output/VTU interval=2"}).fingerprint, base.fingerprint);
     // The key the hand-kept list had missed, and any other, changes it;
     // output settings and the spelling of a number do not.
     EXPECT_NE(read_scene("", {"Injection/Channels=tangential"}).fingerprint, base.fingerprint);
@@ -142,6 +146,46 @@ namespace
     EXPECT_NE(msg.find("Cavity/Radus"), std::string::npos) << msg;
     const auto g = write_prm("wirefem_scene_open.prm", "subsection Cavity\n  set Radius = 10\n");
     EXPECT_NE(error_of(g, {}).find("not closed"), std::string::npos);
+  }
+
+  TEST(Scene, AKeySetTwiceInOneFileNamesBothLines)
+  {
+    // Spelled differently (case, a subsection closed and reopened), still
+    // one key; an override on the command line is no repetition.
+    const auto f =
+        write_prm("wirefem_scene_twice.prm",
+                  "subsection Cavity\n  set Radius = 12\nend\n\nsubsection cavity\n  set radius = 14\nend\n");
+    const auto msg = error_of(f, {});
+    EXPECT_NE(msg.find(f + ":6: cavity/radius: set again (first set on line 2)"), std::string::npos) << msg;
+    const auto g = write_prm("wirefem_scene_once.prm", "subsection Cavity\n  set Radius = 12\nend\n");
+    EXPECT_EQ(read_scene(g, {"Cavity/Radius=14"}).cavity.radius, 14.0);
+  }
+
+  TEST(Scene, TheCavityIsCheckedAgainstItsWireBeforeAnythingIsAllocated)
+  {
+    // Too narrow for 8 segments across, or a wire at the maximum packing
+    // density that would not fit in memory: refused, the radius named.
+    for (const std::string r : {"1.0001", "3.5"})
+      EXPECT_NE(error_of("", {"Cavity/Radius=" + r}).find("Cavity/Radius: r = " + r + " is less than 4 x"),
+                std::string::npos)
+          << r;
+    for (const std::string model : {"discrete", "fem"})
+      EXPECT_NE(
+          error_of("", {"Model=" + model, "Cavity/Radius=1e9"}).find("Cavity/Radius: r = 1e+09 needs about"),
+          std::string::npos)
+          << model;
+    EXPECT_EQ(read_scene("", {"Cavity/Radius=4"}).cavity.radius, 4.0);
+  }
+
+  TEST(Scene, BadInputIsOneLineThatATerminalShowsAsIs)
+  {
+    // Newlines, escape sequences and bytes that are not UTF-8 from a
+    // damaged file or a --set come out as \xNN; UTF-8 text stays.
+    const std::string raw = std::string("a\nb\x1b[31m\xff\xc3\xa9\xc2\x9b") + '\0' + "z";
+    EXPECT_EQ(InputError(raw).what(), std::string("a\\x0ab\\x1b[31m\\xff\xc3\xa9\\xc2\\x9b\\x00z"));
+    const auto msg = error_of("", {"Cavity/Radius=1\n2"});
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    EXPECT_NE(msg.find("Cavity/Radius: '1\\x0a2'"), std::string::npos) << msg;
   }
 
   TEST(Scene, MissingFileIsAnError)

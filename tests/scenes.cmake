@@ -5,7 +5,7 @@ set(SCENE_OUT ${CMAKE_BINARY_DIR}/test-output)
 
 add_test(NAME scene.quick_runs
          COMMAND ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm
-                 --set Output/Directory=${SCENE_OUT}/quick --set Output/Progress=off)
+                 --set Output/Directory=${SCENE_OUT}/quick --set Output/Progress=off --replace)
 set_tests_properties(scene.quick_runs PROPERTIES LABELS regression)
 
 # `wirefem analyze` on the output directory of that run: loops, morphology, phi.
@@ -21,8 +21,10 @@ if(EXISTS ${CHECK_CONTRACT})
            WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
   set_tests_properties(scene.output_contract PROPERTIES LABELS regression)
   # The same contract for the rod FEM: prm/quick.prm with Model = fem.
+  # (A key set twice in one file is an error: the model is replaced.)
   file(READ ${CMAKE_SOURCE_DIR}/prm/quick.prm quick_scene)
-  file(WRITE ${CMAKE_BINARY_DIR}/quick_fem.prm "${quick_scene}\nset Model = fem\n")
+  string(REGEX REPLACE "\nset Model = [a-z]+" "\nset Model = fem" quick_scene "${quick_scene}")
+  file(WRITE ${CMAKE_BINARY_DIR}/quick_fem.prm "${quick_scene}")
   add_test(NAME scene.fem_output_contract
            COMMAND python3 ${CHECK_CONTRACT} ${WIREFEM_EXE} ${CMAKE_BINARY_DIR}/quick_fem.prm
            WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
@@ -50,12 +52,14 @@ wirefem_bad_input(${CMAKE_SOURCE_DIR}/validation/cantilever/moment.prm "cantilev
 wirefem_bad_input(${CMAKE_SOURCE_DIR}/validation/capstan/capstan.prm "capstan_wrap|Capstan/Wrap angle=3.5"
                   "capstan_slide|Capstan/Slide=0.5")
 file(READ ${CMAKE_SOURCE_DIR}/validation/capstan/capstan.prm capstan_scene)
-file(WRITE ${CMAKE_BINARY_DIR}/capstan_fem.prm "${capstan_scene}\nset Model = fem\n")
+string(REGEX REPLACE "\nset Model = [a-z]+" "\nset Model = fem" capstan_scene "${capstan_scene}")
+file(WRITE ${CMAKE_BINARY_DIR}/capstan_fem.prm "${capstan_scene}")
 wirefem_bad_input(${CMAKE_BINARY_DIR}/capstan_fem.prm "capstan_fem_force|Capstan/Control=force")
 # Tangential runs through the executable, both models, to their ends
 # without a numerical stop.
 file(READ ${CMAKE_SOURCE_DIR}/prm/quick.prm quick_prm)
-file(WRITE ${CMAKE_BINARY_DIR}/quick_fem.prm "${quick_prm}\nset Model = fem\n")
+string(REGEX REPLACE "\nset Model = [a-z]+" "\nset Model = fem" quick_prm "${quick_prm}")
+file(WRITE ${CMAKE_BINARY_DIR}/quick_fem.prm "${quick_prm}")
 add_test(NAME scene.tangential_channels_run
          COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
                  -DSETTING=Injection/Channels=tangential -DOUT=${SCENE_OUT}/tangential
@@ -68,18 +72,18 @@ set_tests_properties(scene.tangential_channels_run scene.tangential_channels_fem
 # The FEM's capstan through the executable (coarse: 19 elements).
 add_test(NAME scene.capstan_fem_runs
          COMMAND ${WIREFEM_EXE} ${CMAKE_BINARY_DIR}/capstan_fem.prm "--set=FEM/Element length=2"
-                 --set Output/Directory=${SCENE_OUT}/capstan_fem)
+                 --set Output/Directory=${SCENE_OUT}/capstan_fem --replace)
 set_tests_properties(scene.capstan_fem_runs PROPERTIES LABELS regression PASS_REGULAR_EXPRESSION "finished: pushed")
 
 # A coarse cantilever (10 segments) relaxes to equilibrium through the executable.
 add_test(NAME scene.cantilever_runs
          COMMAND ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/validation/cantilever/tip_load.prm
-                 "--set=Discrete/Segment length=2" --set Output/Directory=${SCENE_OUT}/cantilever)
+                 "--set=Discrete/Segment length=2" --set Output/Directory=${SCENE_OUT}/cantilever --replace)
 set_tests_properties(scene.cantilever_runs PROPERTIES LABELS regression
                      PASS_REGULAR_EXPRESSION "finished: equilibrium")
 add_test(NAME scene.cantilever_fem_runs
          COMMAND ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/validation/cantilever/tip_load.prm --set Model=fem
-                 "--set=FEM/Element length=5" --set Output/Directory=${SCENE_OUT}/cantilever_fem)
+                 "--set=FEM/Element length=5" --set Output/Directory=${SCENE_OUT}/cantilever_fem --replace)
 set_tests_properties(scene.cantilever_fem_runs PROPERTIES LABELS regression
                      PASS_REGULAR_EXPRESSION "finished: equilibrium")
 
@@ -215,3 +219,12 @@ set_tests_properties(scripts.models_back_to_back PROPERTIES LABELS regression
 add_test(NAME scripts.morphology_scan_overrides
          COMMAND bash -c "grep -q '\"plasticity\"' '${SCENE_OUT}/morphology_scan/default/summary.json' && ! grep -q '\"plasticity\"' '${SCENE_OUT}/morphology_scan/elastic__slower/summary.json'")
 set_tests_properties(scripts.morphology_scan_overrides PROPERTIES LABELS regression DEPENDS scripts.morphology_scan)
+
+# The fault matrix (scripts/fault-matrix.sh, ctest -L stress): every case
+# of a damaged checkpoint, a resume onto other files, a run into earlier
+# results, sizes and places it cannot have, duplicate keys, stiff contacts,
+# binary scene files and an error on two MPI ranks gives its documented
+# exit status and message and leaves earlier results intact.
+add_test(NAME scripts.fault_matrix
+         COMMAND bash ${CMAKE_SOURCE_DIR}/scripts/fault-matrix.sh ${WIREFEM_EXE} ${SCENE_OUT}/fault_matrix)
+set_tests_properties(scripts.fault_matrix PROPERTIES LABELS stress TIMEOUT 1800 PROCESSORS 2)

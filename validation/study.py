@@ -33,7 +33,7 @@ def run(wirefem, prm, sets, out, reuse=False):
     taken as it is (to redo an analysis without running again)."""
     summary = os.path.join(out, "summary.json")
     if not (reuse and os.path.exists(summary)):
-        cmd = [wirefem, prm, "--set", f"Output/Directory={out}"]
+        cmd = [wirefem, prm, "--replace", "--set", f"Output/Directory={out}"]
         for s in sets:
             cmd += ["--set", s]
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)

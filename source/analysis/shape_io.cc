@@ -135,7 +135,8 @@ namespace wirefem::analysis
         std::replace(line.begin(), line.end(), ',', ' ');
         std::istringstream fields(line);
         double x, y;
-        if (!(fields >> x >> y))
+        std::string rest;
+        if (!(fields >> x >> y) || (fields >> rest))
           {
             if (header_allowed)
               {
@@ -157,8 +158,15 @@ namespace wirefem::analysis
       fail(file, "diameter: must be positive");
     if (radius < 0.0)
       fail(file, "radius: must not be negative");
+    // Far beyond any cavity: the exact geometry of the loop count needs
+    // coordinates whose squares stay finite.
     for (auto &p : w.points)
-      p = (1.0 / diameter) * p;
+      {
+        p = (1.0 / diameter) * p;
+        if (!(std::abs(p.x) <= 1e9 && std::abs(p.y) <= 1e9))
+          fail(file, fmt::format("a point lies {:g} diameters from the origin (at most 1e9)",
+                                 std::max(std::abs(p.x), std::abs(p.y))));
+      }
     w.cavity_radius = radius / diameter;
     check_shape(w, file);
     complete_geometry(w);

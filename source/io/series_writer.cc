@@ -3,14 +3,38 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
 namespace wirefem::io
 {
+  namespace
+  {
+    /// Whether `line` is a row of `n` numbers (inf and nan are numbers the
+    /// writer may print, as curvature_ratio's inf) with a finite time.
+    bool parse_row(const std::string &line, const std::size_t n, double &time)
+    {
+      std::size_t fields = 0, at = 0;
+      while (at <= line.size())
+        {
+          const auto comma = std::min(line.find(',', at), line.size());
+          const std::string field = line.substr(at, comma - at);
+          char *end = nullptr;
+          const double x = std::strtod(field.c_str(), &end);
+          if (field.empty() || end != field.c_str() + field.size() || (fields == 0 && !std::isfinite(x)))
+            return false;
+          if (fields++ == 0)
+            time = x;
+          at = comma + 1;
+        }
+      return fields == n;
+    }
+  } // namespace
+
   SeriesWriter::SeriesWriter(const std::string &filename, const std::vector<std::string> &columns,
-                             const double resume_time)
+                             const double resume_time, const std::uint64_t resume_rows)
     : n_columns(columns.size())
   {
     std::string header;
@@ -24,23 +48,53 @@ namespace wirefem::io
         // own step may read back a little later than it: compare within
         // that rounding (rows are a whole time step apart).
         const double rounding = 1e-9 * std::max(1.0, std::abs(resume_time));
+        const std::string refused = filename + ": cannot resume: ";
         std::ifstream in(filename);
+        if (!in)
+          throw SeriesResumeError(refused + "the file is missing; the checkpoint continues " +
+                                  std::to_string(resume_rows) + " rows");
         std::string line;
         std::getline(in, line); // header
         // Rows of another column set would end up under this header.
-        if (in && line != header)
-          throw SeriesColumnsError(filename + ": its columns (" + line + ") are not this version's (" +
-                                   header + "); resume the run with the version that started it");
-        while (std::getline(in, line))
-          if (!line.empty() && std::stod(line.substr(0, line.find(','))) <= resume_time + rounding)
+        if (line != header)
+          throw SeriesResumeError(refused + "its columns (" + line.substr(0, 200) +
+                                  ") are not this version's (" + header +
+                                  "); resume the run with the version that started it");
+        for (std::size_t row = 1; std::getline(in, line); ++row)
+          {
+            double time = 0.0;
+            if (!parse_row(line, n_columns, time))
+              {
+                if (kept.size() < resume_rows)
+                  throw SeriesResumeError(refused + "row " + std::to_string(row) + " is damaged (not " +
+                                          std::to_string(n_columns) + " numbers with a finite time)");
+                break; // after the checkpoint's rows: cut with the rest
+              }
+            if (time > resume_time + rounding)
+              break;
             kept.push_back(line);
+          }
+        if (kept.size() != resume_rows)
+          throw SeriesResumeError(refused + "it has " + std::to_string(kept.size()) +
+                                  " rows up to the checkpoint's time where the checkpoint counted " +
+                                  std::to_string(resume_rows) + " (another run wrote it, or it was cut)");
       }
-    out.open(filename);
+    // The kept rows are written next to the file and renamed over it, so an
+    // interruption here leaves the file the checkpoint counted.
+    const std::string tmp = filename + ".tmp";
+    {
+      std::ofstream fresh(resume_time >= 0.0 ? tmp : filename);
+      fresh << header << '\n';
+      for (const auto &line : kept)
+        fresh << line << '\n';
+      if (!fresh.flush())
+        throw SeriesResumeError(filename + ": cannot write the file");
+    }
+    if (resume_time >= 0.0)
+      std::filesystem::rename(tmp, filename);
+    out.open(filename, std::ios::app);
     if (!out)
-      throw std::runtime_error("cannot write " + filename);
-    out << header << '\n';
-    for (const auto &line : kept)
-      out << line << '\n';
+      throw SeriesResumeError(filename + ": cannot write the file");
     out << std::setprecision(10);
   }
 

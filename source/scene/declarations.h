@@ -231,15 +231,16 @@ namespace wirefem::scene
       return value;
     }
 
-    /// Every entry outside Output as "Section/Key = value" lines, sorted
-    /// by key; numbers written in one canonical form, so that 25 and 25.0
-    /// read alike.
+    /// Every entry outside Output, and the Output keys that set what the
+    /// files hold (the row and VTU spacing), as "Section/Key = value"
+    /// lines, sorted by key; numbers written in one canonical form, so
+    /// that 25 and 25.0 read alike.
     std::string fingerprint() const
     {
       std::string out;
       for (const auto &[key, entry] : table)
         {
-          if (key.rfind("output/", 0) == 0)
+          if (key.rfind("output/", 0) == 0 && key != "output/interval" && key != "output/vtu interval")
             continue;
           std::string value = get(entry.path);
           try

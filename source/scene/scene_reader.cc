@@ -2,9 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+
+#include <unistd.h>
 
 namespace wirefem::scene
 {
@@ -93,9 +97,48 @@ namespace wirefem::scene
 
     // Values that each pass their pattern but make no physical sense, alone
     // or together. The order is the order in which a user meets the keys.
+    /// The injection set-up's cavity against its discretisation and this
+    /// machine's memory, before anything is allocated: a cavity narrower
+    /// than 4 segments (or elements) across, or a wire at the maximum
+    /// packing density whose storage would not fit in memory, is refused
+    /// with the radius named. Bytes per node measured on the shipped
+    /// scenes (storage, neighbour lists, and for the FEM the tangent and
+    /// its LU factors), doubled for safety.
+    void validate_cavity_size(const Scene &s, const std::string &w)
+    {
+      if (s.setup != Setup::injection)
+        return;
+      const double r = s.cavity.radius;
+      const bool fem = s.model == ModelType::fem;
+      if (!(s.discrete.segment_length > 0.0) || !(s.fem.element_length > 0.0))
+        return; // their own checks say so
+      const double element =
+          fem ? std::max(s.discrete.segment_length, s.fem.element_length) : s.discrete.segment_length;
+      check(r >= 4.0 * element, w, "Cavity/Radius",
+            fmt::format("r = {:g} is less than 4 x {} ({:g}): the wire across the cavity needs at least 8 "
+                        "of them",
+                        r,
+                        fem && s.fem.element_length > s.discrete.segment_length ? "FEM/Element length"
+                                                                                : "Discrete/Segment length",
+                        element));
+      const double phi = std::min(1.0, s.injection.maximum_packing_density);
+      const double length = phi * M_PI * r * r; // d = 1
+      const double nodes =
+          fem ? length / s.fem.element_length * s.fem.degree : length / s.discrete.segment_length;
+      const double bytes = nodes * (fem ? 8192.0 : 512.0);
+      const double memory =
+          static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+      check(
+          !(bytes > memory) || memory <= 0, w, "Cavity/Radius",
+          fmt::format("r = {:g} needs about {:.3g} GB ({:.2g} nodes up to Injection/Maximum packing density "
+                      "{:g}), more than this machine's {:.3g} GB",
+                      r, bytes / 1e9, nodes, phi, memory / 1e9));
+    }
+
     void validate(const Scene &s, const Declarations &d, const std::string &w)
     {
       s.cavity.validate(w);
+      validate_cavity_size(s, w);
       d.check_ranges("Wire/", w);
       d.check_ranges("Contact/", w);
       s.contact.validate(w);
@@ -122,12 +165,15 @@ namespace wirefem::scene
     // comments, '\' continuation) so that errors carry the file and line.
     void read_prm_file(Declarations &d, const std::string &file)
     {
+      if (std::filesystem::is_directory(file))
+        throw InputError(file + ": is a directory, not a scene file");
       if (!std::filesystem::is_regular_file(file))
         throw InputError(file + ": cannot open the scene file (no such file)");
       std::ifstream in(file);
       if (!in)
         throw InputError(file + ": cannot open the scene file");
       std::vector<std::string> path;
+      std::map<std::string, int> set_at; // key (lower case) -> line of its 'set'
       std::string raw, line;
       int line_no = 0, start_line = 0;
       while (std::getline(in, raw))
@@ -165,6 +211,13 @@ namespace wirefem::scene
               for (const auto &p : path)
                 key += p + "/";
               key += trim(l.substr(4, eq - 4));
+              // A key set twice in one file: the second would win unseen.
+              std::string folded;
+              for (const char c : key)
+                folded += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+              if (const auto [first, inserted] = set_at.emplace(folded, start_line); !inserted)
+                throw InputError(where + ": " + key + ": set again (first set on line " +
+                                 std::to_string(first->second) + ")");
               d.set(where, key, trim(l.substr(eq + 1)));
             }
           else

@@ -3,6 +3,8 @@
 #include <wirefem/simulation/cantilever.h>
 #include <wirefem/version.h>
 
+#include "run_files.h"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
@@ -40,19 +42,20 @@ namespace wirefem::simulation
     }
   } // namespace
 
-  CantileverResult run_cantilever(const scene::Scene &scene)
+  CantileverResult run_cantilever(const scene::Scene &scene, const RunOptions &options)
   {
+    check_output_place(scene, options);
     const auto wall_start = std::chrono::steady_clock::now();
     const auto &cl = scene.cantilever;
     const bool fem = scene.model == scene::ModelType::fem;
     const std::filesystem::path dir(scene.output.directory);
-    std::filesystem::create_directories(dir);
     std::cout << fmt::format("wirefem: scene {} (cantilever, {} model), L = {}\n", scene.name,
                              fem ? "fem" : "discrete", cl.length)
               << "output: " << dir.string() << std::endl;
     // Both models follow the load history with their own solvers: the chain
     // by dynamic relaxation, the FEM by Newton's method with load increments.
     const auto model = make_model(scene);
+    prepare_output_directory(dir, options.replace);
     CantileverResult result;
     std::vector<std::array<double, 5>> recorded; // load factor, tip x, y, rotation, plastic work
     core::Equilibrium eq;

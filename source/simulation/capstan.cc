@@ -3,6 +3,8 @@
 #include <wirefem/simulation/capstan.h>
 #include <wirefem/version.h>
 
+#include "run_files.h"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
@@ -216,14 +218,15 @@ namespace wirefem::simulation
     }
   } // namespace
 
-  CapstanResult run_capstan(const scene::Scene &scene)
+  CapstanResult run_capstan(const scene::Scene &scene, const RunOptions &options)
   {
+    check_output_place(scene, options);
     const auto &cs = scene.capstan;
     const auto &fr = scene.contact.friction;
     // Both models take the capstan loading and step it with their own
     // integrators: the chain explicitly, the FEM by quasi-static Newton steps.
     CapstanRun run(scene);
-    std::filesystem::create_directories(run.dir);
+    prepare_output_directory(run.dir, options.replace);
     run.state = run.model->capstan_state();
     std::cout << fmt::format(
                      "wirefem: scene {} (capstan, {} model), r = {}, wrap angle {:.6f} rad, mu_st = {}, "

@@ -11,8 +11,11 @@
 #include <wirefem/simulation/simulation.h>
 #include <wirefem/version.h>
 
+#include "run_files.h"
+
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdint>
@@ -93,147 +96,17 @@ namespace wirefem::simulation
       interrupt_requested = 1;
     }
 
-    constexpr std::uint64_t checkpoint_magic = 0x77666d72756e3031ull; // "wfmrun01"
-    /// Layout of checkpoint.bin: magic, version, payload size, FNV-1a 64
-    /// checksum of the payload, payload (fingerprint, loop state, pvd
-    /// entries, the model's state).
-    constexpr std::uint64_t checkpoint_version = 4;
+    /// Quality alarms (docs/output.md, "Warnings"): a step below this
+    /// (time units; the shipped scenes step 3e-3 to 2.5e-2) makes a run
+    /// that may not finish in a useful time; an energy balance error above
+    /// the limit at the end makes a result that cannot be trusted.
+    constexpr double time_step_floor = 1e-5;
+    constexpr double balance_limit = 0.01;
 
-    std::uint64_t fnv1a(const std::string &bytes)
+    void warn(RunResult &result, const std::string &text)
     {
-      std::uint64_t h = 0xcbf29ce484222325ull;
-      for (const unsigned char c : bytes)
-        {
-          h ^= c;
-          h *= 0x100000001b3ull;
-        }
-      return h;
-    }
-
-    /// What the run loop carries from step to step besides the model.
-    struct LoopState
-    {
-      double next_row = 0.0;
-      double next_vtu = 0.0;
-      int vtu_count = 0;
-      std::int32_t padding = 0; // written with the rest: no undefined bytes in the checkpoint
-      // Running mean of the inlet force over the jamming window, in injected
-      // length: a step that injects dL moves the mean by dL/window.
-      double force_mean = 0.0;
-      double previous_length = 0.0;
-      double max_penetration = 0.0;
-      double wall_time = 0.0; // spent before this process (resumed runs)
-    };
-    static_assert(sizeof(LoopState) == 6 * sizeof(double) + 2 * sizeof(std::int32_t),
-                  "LoopState has padding");
-
-    // The first key whose value differs between two scene fingerprints
-    // (scene::Scene::fingerprint), for the message that refuses a resume.
-    std::string first_difference(const std::string &here, const std::string &there)
-    {
-      const auto lines = [](const std::string &text) {
-        std::map<std::string, std::string> m;
-        std::istringstream in(text);
-        for (std::string line; std::getline(in, line);)
-          if (const auto eq = line.find(" = "); eq != std::string::npos)
-            m[line.substr(0, eq)] = line.substr(eq + 3);
-        return m;
-      };
-      const auto a = lines(here), b = lines(there);
-      for (const auto &[key, value] : a)
-        if (const auto it = b.find(key); it == b.end() || it->second != value)
-          return fmt::format("{} is {} here and {} in the checkpoint", key, value,
-                             it == b.end() ? std::string("absent") : it->second);
-      for (const auto &[key, value] : b)
-        if (a.find(key) == a.end())
-          return fmt::format("{} is in the checkpoint but not in this scene", key);
-      return "different scene parameters";
-    }
-
-    void write_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, const LoopState &loop,
-                          const io::PvdCollection &pvd, const core::Model &model)
-    {
-      // Written next to the final name and renamed, so an interruption while
-      // writing leaves the previous checkpoint intact.
-      const auto tmp = file.string() + ".tmp";
-      {
-        std::ostringstream out(std::ios::binary);
-        const auto &fp = scene.fingerprint;
-        core::write_raw(out, static_cast<std::uint64_t>(fp.size()));
-        out.write(fp.data(), static_cast<std::streamsize>(fp.size()));
-        core::write_raw(out, loop);
-        core::write_raw(out, static_cast<std::uint64_t>(pvd.entries().size()));
-        for (const auto &[time, name] : pvd.entries())
-          {
-            core::write_raw(out, time);
-            core::write_raw(out, static_cast<std::uint64_t>(name.size()));
-            out.write(name.data(), static_cast<std::streamsize>(name.size()));
-          }
-        model.save(out);
-        const std::string payload = out.str();
-        std::ofstream file_out(tmp, std::ios::binary);
-        core::write_raw(file_out, checkpoint_magic);
-        core::write_raw(file_out, checkpoint_version);
-        core::write_raw(file_out, static_cast<std::uint64_t>(payload.size()));
-        core::write_raw(file_out, fnv1a(payload));
-        file_out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
-        if (!file_out)
-          throw std::runtime_error("cannot write " + tmp);
-      }
-      std::filesystem::rename(tmp, file);
-    }
-
-    void read_checkpoint(const std::filesystem::path &file, const scene::Scene &scene, LoopState &loop,
-                         io::PvdCollection &pvd, core::Model &model)
-    {
-      std::ifstream in(file, std::ios::binary);
-      if (!in)
-        throw scene::InputError(file.string() + ": no checkpoint to resume from");
-      try
-        {
-          if (core::read_raw<std::uint64_t>(in) != checkpoint_magic)
-            throw std::runtime_error("not a wirefem checkpoint");
-          if (const auto version = core::read_raw<std::uint64_t>(in); version != checkpoint_version)
-            throw std::runtime_error(
-                fmt::format("checkpoint version {}, this wirefem reads {}", version, checkpoint_version));
-          const auto size = core::read_raw<std::uint64_t>(in);
-          const auto checksum = core::read_raw<std::uint64_t>(in);
-          const auto at = in.tellg();
-          in.seekg(0, std::ios::end);
-          const auto available = static_cast<std::uint64_t>(in.tellg() - at);
-          in.seekg(at);
-          if (size != available)
-            throw std::runtime_error(
-                fmt::format("damaged: {} bytes of state where {} were written", available, size));
-          std::string payload(size, '\0');
-          in.read(payload.data(), static_cast<std::streamsize>(size));
-          if (!in || fnv1a(payload) != checksum)
-            throw std::runtime_error("damaged: its checksum does not match its contents");
-          std::istringstream state(payload, std::ios::binary);
-          std::string fp(core::read_raw<std::uint64_t>(state), ' ');
-          state.read(fp.data(), static_cast<std::streamsize>(fp.size()));
-          if (fp != scene.fingerprint)
-            throw std::runtime_error("it was written for other scene parameters: " +
-                                     first_difference(scene.fingerprint, fp));
-          loop = core::read_raw<LoopState>(state);
-          const auto n = core::read_raw<std::uint64_t>(state);
-          for (std::uint64_t k = 0; k < n; ++k)
-            {
-              const auto time = core::read_raw<double>(state);
-              std::string name(core::read_raw<std::uint64_t>(state), ' ');
-              state.read(name.data(), static_cast<std::streamsize>(name.size()));
-              pvd.add(time, name);
-            }
-          model.load(state);
-          if (state.peek() != std::char_traits<char>::eof())
-            throw std::runtime_error("damaged: state left over after the model");
-          if (!model.finite())
-            throw std::runtime_error("damaged: the state read back is not finite");
-        }
-      catch (const std::runtime_error &e)
-        {
-          throw scene::InputError(file.string() + ": cannot resume: " + e.what());
-        }
+      std::cerr << "wirefem: warning: " << text << std::endl;
+      result.warnings.push_back(text);
     }
 
     std::string join(const std::vector<std::string> &v)
@@ -291,7 +164,7 @@ namespace wirefem::simulation
       loop.next_row = loop.next_vtu = loop.previous_length = model.injected_length();
       if (run.options.resume)
         read_checkpoint(run.checkpoint_file, run.scene, loop, run.pvd, model);
-      std::filesystem::create_directories(run.dir);
+      prepare_output_directory(run.dir, run.options.replace);
       std::cout << fmt::format("wirefem {}: scene {} ({} model), f = r/d = {}, {}\n", version(),
                                run.scene.name, model.name(), run.radius(), model.description())
                 << "active effects: " << join(model.active_effects()) << '\n'
@@ -299,14 +172,20 @@ namespace wirefem::simulation
       if (run.options.resume)
         std::cout << fmt::format("resuming at t = {:.6g}, L = {:.6g}, step {}\n", model.time(),
                                  model.injected_length(), model.n_steps());
-      try
+      // On resume, a series.csv that is not the checkpoint's is refused
+      // (io::SeriesResumeError, bad input) and left as it was.
+      run.series = std::make_unique<io::SeriesWriter>((run.dir / "series.csv").string(), columns,
+                                                      run.options.resume ? model.time() : -1.0, loop.rows);
+      if (const double dt = model.time_step(); dt < time_step_floor)
         {
-          run.series = std::make_unique<io::SeriesWriter>((run.dir / "series.csv").string(), columns,
-                                                          run.options.resume ? model.time() : -1.0);
-        }
-      catch (const io::SeriesColumnsError &e)
-        {
-          throw scene::InputError(std::string("cannot resume: ") + e.what());
+          const double L_max =
+              run.scene.injection.maximum_packing_density * M_PI * run.radius() * run.radius();
+          const double steps = (L_max - model.injected_length()) / (2.0 * run.scene.injection.speed * dt);
+          warn(run.result,
+               fmt::format("time step {:.3g} is below {:g}: about {:.2g} steps to Injection/Maximum "
+                           "packing density (the stiffest term sets the step: Contact/Normal "
+                           "stiffness, Wire/Axial stiffness or the dashpots)",
+                           dt, time_step_floor, steps));
         }
       run.steps_at_start = model.n_steps();
       run.phi_at_start = analysis::packing_density(model.injected_length(), run.radius());
@@ -357,6 +236,8 @@ namespace wirefem::simulation
                                morph.symmetry,
                                morph.curvature_ratio,
                                morph.inner_wire_fraction});
+      if (write_row)
+        ++run.loop.rows;
       const double vtu_interval = run.scene.output.vtu_interval;
       if (force_vtu || (vtu_interval > 0 && w.injected_length >= run.loop.next_vtu))
         {
@@ -401,10 +282,21 @@ namespace wirefem::simulation
       if (s.max_penetration > 0.5)
         {
           result.failed = true;
+          // Which key to look at: a softer contact than the default, or a
+          // step too coarse for the contact (or the forces) as they are.
+          const double k_n = run.scene.contact.normal_stiffness;
+          const double k_default = scene::ContactParameters{}.normal_stiffness;
           result.stop_reason =
-              fmt::format("contact overlap {:.3f} d exceeds 0.5 d: Contact/Normal stiffness too low for the "
-                          "forces, or the time step too large",
-                          s.max_penetration);
+              k_n < k_default
+                  ? fmt::format(
+                        "contact overlap {:.3f} d exceeds 0.5 d: Contact/Normal stiffness {:g} (default "
+                        "{:g}) is too low for the forces",
+                        s.max_penetration, k_n, k_default)
+                  : fmt::format(
+                        "contact overlap {:.3f} d exceeds 0.5 d with Contact/Normal stiffness {:g}: the "
+                        "time step is too coarse for the contact or the forces too large (lower "
+                        "Discrete/Time step factor or FEM/Time step, or Injection/Speed)",
+                        s.max_penetration, k_n);
           return true;
         }
       if (loop.force_mean > inj.jamming_force)
@@ -427,15 +319,17 @@ namespace wirefem::simulation
           result.stop_reason = "interrupted; continue with --resume";
           return true;
         }
-      if (run.scene.output.checkpoint_interval > 0 && model.n_steps() % 1024 == 0 &&
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - run.last_checkpoint).count() >=
-              run.scene.output.checkpoint_interval)
-        save_checkpoint(run);
       if (model.time() >= inj.maximum_time)
         {
           result.stop_reason = fmt::format("reached Injection/Maximum time {:.4g}", inj.maximum_time);
           return true;
         }
+      // Last: a step that ends the run writes its final row, which a
+      // checkpoint taken at that step would not count.
+      if (run.scene.output.checkpoint_interval > 0 && model.n_steps() % 1024 == 0 &&
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - run.last_checkpoint).count() >=
+              run.scene.output.checkpoint_interval)
+        save_checkpoint(run);
       return false;
     }
 
@@ -499,6 +393,7 @@ namespace wirefem::simulation
       j["failed"] = result.failed;
       j["interrupted"] = result.interrupted;
       j["stop_reason"] = result.stop_reason;
+      j["warnings"] = result.warnings;
       j["loops"] = result.loops;
       j["morphology"] = result.shape.phase.empty() ? "plastic" : result.shape.phase;
       for (const auto &[key, value] : analysis::morphology_numbers(result.shape))
@@ -546,6 +441,14 @@ namespace wirefem::simulation
       result.steps = model.n_steps();
       result.energy_balance_error = model.energies().balance_error();
       result.wall_time_s = run.loop.wall_time + run.elapsed();
+      if (!result.interrupted && !(std::abs(result.energy_balance_error) <= balance_limit))
+        {
+          warn(result,
+               fmt::format("energy balance error {:.3g} exceeds {:g}: the energy ledger does not close, "
+                           "so the result is not trusted (failed)",
+                           result.energy_balance_error, balance_limit));
+          result.failed = true;
+        }
       if (finite)
         {
           io::PictureOptions opt;
@@ -570,6 +473,7 @@ namespace wirefem::simulation
 
   RunResult run(const scene::Scene &scene, const RunOptions &options)
   {
+    check_output_place(scene, options);
     Run run(scene, options);
     open_run(run);
     step_until_done(run);

@@ -211,7 +211,8 @@ namespace wirefem::simulation
           ++finished;
           const bool failed = j.value("failed", false);
           const std::string phase = failed ? std::string("failed") : j.value("morphology", "");
-          if (failed) // stopped by a numerical limit: shown, but neither voting nor fitted
+          if (failed) // a numerical limit or an energy balance error above 1%: shown, neither voting nor
+                      // fitted
             {
               rows << fmt::format("{},{},{},failed,{},{},,,,,,,,,{},{},{}\n", c.kappa, c.mu, c.seed,
                                   json_number(j, "phi_final"), j.value("jammed", false),
@@ -366,7 +367,9 @@ namespace wirefem::simulation
         std::string error;
         try
           {
-            r = run(scene, {resume});
+            // The sweep owns its case directories: a case neither finished
+            // nor checkpointed (killed early) starts over.
+            r = run(scene, {resume, !resume});
           }
         catch (const std::exception &e) // e.g. a checkpoint of other parameters: report, go on
           {

@@ -16,7 +16,7 @@ while read -r radius speed factor seed; do
   [ -f "$out/summary.json" ] && continue
   "$WIREFEM" prm/classic.prm --set Cavity/Radius="$radius" --set Injection/Speed="$speed" \
     --set "Discrete/Time step factor=$factor" --set Injection/Seed="$seed" \
-    --set Output/Directory="$out" --set Output/Progress=off < /dev/null > "$out.log" 2>&1
+    --set Output/Directory="$out" --set Output/Progress=off --replace < /dev/null > "$out.log" 2>&1
 done <<'LIST'
 25 0.3 0.25 1
 25 0.3 0.125 1

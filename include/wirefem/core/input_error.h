@@ -4,13 +4,21 @@
 // the reason, exit status 2.
 #pragma once
 
+#include <wirefem/core/printable.h>
+
 #include <stdexcept>
+#include <string>
 
 namespace wirefem::core
 {
   class InputError : public std::runtime_error
   {
   public:
-    using std::runtime_error::runtime_error;
+    /// The message as given, with what cannot be printed on one line
+    /// (newlines, control characters, bytes that are not UTF-8) as \xNN.
+    explicit InputError(const std::string &what)
+      : std::runtime_error(printable(what))
+    {
+    }
   };
 } // namespace wirefem::core

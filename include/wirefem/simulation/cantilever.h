@@ -4,6 +4,7 @@
 #pragma once
 
 #include <wirefem/scene/parameters.h>
+#include <wirefem/simulation/simulation.h>
 
 namespace wirefem::simulation
 {
@@ -22,5 +23,6 @@ namespace wirefem::simulation
 
   /// Relaxes the scene's cantilever (discrete model) and writes summary.json
   /// and shape.csv (s, x, y per node) into the output directory.
-  CantileverResult run_cantilever(const scene::Scene &scene);
+  /// The output directory follows run()'s rules (options.replace; no resume).
+  CantileverResult run_cantilever(const scene::Scene &scene, const RunOptions &options = {});
 } // namespace wirefem::simulation

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <wirefem/scene/parameters.h>
+#include <wirefem/simulation/simulation.h>
 
 namespace wirefem::simulation
 {
@@ -21,5 +22,6 @@ namespace wirefem::simulation
   /// Runs the scene's capstan and writes summary.json, series.csv and
   /// profile.csv (compression along the wire at the end) into the output
   /// directory.
-  CapstanResult run_capstan(const scene::Scene &scene);
+  /// The output directory follows run()'s rules (options.replace; no resume).
+  CapstanResult run_capstan(const scene::Scene &scene, const RunOptions &options = {});
 } // namespace wirefem::simulation
