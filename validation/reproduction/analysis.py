@@ -1,0 +1,189 @@
+"""The reproduction study's analysis (run.py): phi_c, beta and gamma over
+realizations, and the report."""
+import csv
+import json
+import math
+import os
+import statistics
+
+import numpy as np
+from scipy.optimize import curve_fit
+
+# The scenes, their overrides of prm/classic.prm and the paper's values.
+SCENES = {
+    "fig5": {
+        "title": "elastoplastic classic (Fig. 5: kappa_theta 0.08, s 0.05, mu_st 5)",
+        "sets": ["Wire/Plasticity/Yield curvature=0.08", "Wire/Plasticity/Hardening slope=0.05"],
+        "phi_c": (0.46, 0.01),
+        "beta": (-1.43, 0.02),
+    },
+    "elastic": {
+        "title": "elastic classic (mu_st 5)",
+        "sets": ["Wire/Plasticity/Enabled=false"],
+        "phi_c": (0.54, 0.02),
+        "beta": (-2.05, 0.02),
+        "gamma": (1.75, 0.03),
+    },
+}
+GRID = 0.001  # phi spacing of the averaged force
+
+
+def read_run(out):
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    phi, force = [], []
+    with open(os.path.join(out, "series.csv")) as f:
+        for row in csv.DictReader(f):
+            phi.append(float(row["phi"]))
+            force.append(float(row["force"]))
+    return summary, np.array(phi), np.array(force)
+
+
+def mean_error(xs):
+    xs = [x for x in xs if x is not None and math.isfinite(x)]
+    if not xs:
+        return float("nan"), float("nan"), 0
+    m = statistics.mean(xs)
+    return m, (statistics.stdev(xs) / math.sqrt(len(xs)) if len(xs) > 1 else float("nan")), len(xs)
+
+
+def average_force(runs, phi_end):
+    """The force of every realization at equal phi (linear interpolation on
+    a grid of GRID), averaged, up to phi_end."""
+    grid = np.arange(0.05, phi_end, GRID)
+    curves = [np.interp(grid, phi, force) for _, phi, force in runs]
+    return grid, np.mean(curves, axis=0)
+
+
+def fit_power(phi, force, phi_c=None):
+    """log F = log A + beta log(phi_c - phi): (beta, beta error, phi_c,
+    phi_c error, log A), phi_c free above the window unless given."""
+    keep = force > 0
+    phi, y = phi[keep], np.log(force[keep])
+    if phi_c is not None:
+        x = np.log(phi_c - phi)
+        (beta, log_a), cov = np.polyfit(x, y, 1, cov=True)
+        return beta, math.sqrt(cov[0][0]), phi_c, 0.0, log_a
+
+    def model(p, log_a, beta, gap):
+        return log_a + beta * np.log(phi[-1] + math.exp(gap) - p)
+
+    best = None
+    for guess in (0.005, 0.02, 0.05, 0.1):
+        try:
+            params, cov = curve_fit(model, phi, y, p0=(y[0], -1.0, math.log(guess)), maxfev=20000)
+        except RuntimeError:
+            continue
+        residual = float(np.sum((model(phi, *params) - y) ** 2))
+        if best is None or residual < best[0]:
+            best = (residual, params, cov)
+    if best is None:
+        return [float("nan")] * 5
+    _, (log_a, beta, gap), cov = best
+    phi_c = phi[-1] + math.exp(gap)
+    return beta, math.sqrt(cov[1][1]), phi_c, math.exp(gap) * math.sqrt(cov[2][2]), log_a
+
+
+def scene_results(outdir, scene, seeds):
+    runs = []
+    for seed in seeds:
+        out = os.path.join(outdir, f"{scene}_s{seed}")
+        if os.path.exists(os.path.join(out, "summary.json")):
+            runs.append(read_run(out))
+    s = SCENES[scene]
+    r = {"runs": len(runs), "scene": scene}
+    if not runs:
+        return r
+    finals = [summary["phi_final"] for summary, _, _ in runs]
+    r["jammed"] = sum(summary["jammed"] for summary, _, _ in runs)
+    r["failed"] = sum(summary["failed"] for summary, _, _ in runs)
+    r["phi_final"] = mean_error(finals)
+    r["gamma"] = mean_error([summary.get("gamma") for summary, _, _ in runs])
+    r["single_beta"] = sorted(summary.get("beta") for summary, _, _ in runs if summary.get("beta") is not None)
+    r["loops"] = mean_error([summary["loops"] for summary, _, _ in runs])
+    r["morphology"] = sorted({summary["morphology"] for summary, _, _ in runs})
+    r["versions"] = sorted({summary["version"] for summary, _, _ in runs})
+    end = min(finals)
+    grid, force = average_force(runs, end)
+    r["curve"] = (grid, force)
+    r["window_end"] = end
+    r["fits"] = {}
+    for start in (0.4, 0.5, 0.6):
+        w = grid >= start * end
+        r["fits"][start] = fit_power(grid[w], force[w])
+    paper_c = s["phi_c"][0]
+    w = (grid >= 0.5 * end) & (grid <= paper_c - 0.005)
+    r["fixed"] = fit_power(grid[w], force[w], phi_c=paper_c)
+    r["fixed_window"] = (0.5 * end, min(end, paper_c - 0.005))
+    return r
+
+
+def plot(results, filename):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(results), figsize=(6 * len(results), 4.5))
+    for ax, r in zip(np.atleast_1d(axes), results):
+        if r["runs"] == 0:
+            continue
+        grid, force = r["curve"]
+        # Against phi (each fit has its own phi_c): the mean force, the
+        # fit with phi_c free, the fit with the paper's phi_c.
+        w = grid >= 0.4 * r["window_end"]
+        ax.semilogy(grid[w], force[w], ".", ms=3, label=f"mean of {r['runs']} realizations")
+        for (beta, _, phi_c, _, log_a), style, label in (
+                (r["fits"][0.5], "-", "phi_c free"), (r["fixed"], "--", "paper's phi_c")):
+            x = grid[(grid >= 0.5 * r["window_end"]) & (grid < phi_c)]
+            ax.semilogy(x, np.exp(log_a) * (phi_c - x) ** beta, style,
+                        label=f"fit, {label}: beta {beta:.2f}, phi_c {phi_c:.3f}")
+        ax.set_xlabel("phi")
+        ax.set_ylabel("inlet force (mean over realizations)")
+        ax.set_title(SCENES[r["scene"]]["title"], fontsize=9)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(filename, dpi=120)
+
+
+def report(outdir, seeds):
+    results = [scene_results(outdir, scene, seeds) for scene in SCENES]
+    plot(results, os.path.join(outdir, "force_average.png"))
+    lines = ["# The paper's numbers beside this code's", "",
+             "Generated by `validation/reproduction/run.py WIREFEM OUTDIR` (this copy: 2026-12-05): discrete model, "
+             "`prm/classic.prm --set Cavity/Radius=25` with each scene's keys, seeds "
+             f"{min(seeds)}-{max(seeds)}; errors are standard errors over the realizations (phi_c, gamma) or "
+             "of the fit (beta).", "",
+             "| quantity | paper | this code | how |", "|---|---|---|---|"]
+    for r in results:
+        s = SCENES[r["scene"]]
+        if r["runs"] == 0:
+            lines.append(f"| {s['title']} | | no runs yet | |")
+            continue
+        m, e, n = r["phi_final"]
+        lines.append(f"| phi at jamming, {s['title']} | {s['phi_c'][0]} +- {s['phi_c'][1]} | {m:.3f} +- {e:.3f} "
+                     f"({r['jammed']} of {r['runs']} jammed, {r['failed']} failed; {', '.join(r['morphology'])}) "
+                     "| mean over realizations |")
+        b, be, c, ce, _ = r["fits"][0.5]
+        lines.append(f"| beta, same scene | {s['beta'][0]} +- {s['beta'][1]} | {b:.2f} +- {be:.2f} (phi_c {c:.3f} "
+                     f"+- {ce:.3f}) | force averaged at equal phi, fitted on phi {0.5 * r['window_end']:.3f}-"
+                     f"{r['window_end']:.3f} (half of the earliest jamming to it) |")
+        others = ", ".join(f"{r['fits'][k][0]:.2f} from {k} x" for k in (0.4, 0.6))
+        fb, fbe, _, _, _ = r["fixed"]
+        lo, hi = r["fixed_window"]
+        lines.append(f"| beta, phi_c fixed at the paper's {s['phi_c'][0]} | {s['beta'][0]} | {fb:.2f} +- {fbe:.2f} "
+                     f"| same average, phi {lo:.3f}-{hi:.3f} |")
+        lines.append(f"| beta, the window's start moved | | {others} the earliest jamming | same average |")
+        single = r["single_beta"]
+        if single:
+            lines.append(f"| beta of single runs | | median {statistics.median(single):.2f}, "
+                         f"{single[0]:.2f} to {single[-1]:.2f} | each run's own fit (summary.json) |")
+        if "gamma" in s:
+            gm, ge, gn = r["gamma"]
+            lines.append(f"| gamma, same scene | {s['gamma'][0]} +- {s['gamma'][1]} (f 50) | {gm:.2f} +- {ge:.2f} "
+                         f"(f 25, {gn} runs) | mean of single-run fits |")
+    versions = sorted({v for r in results for v in r.get("versions", [])})
+    lines += ["", f"Runs made by wirefem {', '.join(versions)}.", "", "![force](force_average.png)", ""]
+    with open(os.path.join(outdir, "report.md"), "w") as f:
+        f.write("\n".join(lines))
+    return results
