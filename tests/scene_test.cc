@@ -183,6 +183,12 @@ namespace
     // damaged file or a --set come out as \xNN; UTF-8 text stays.
     const std::string raw = std::string("a\nb\x1b[31m\xff\xc3\xa9\xc2\x9b") + '\0' + "z";
     EXPECT_EQ(InputError(raw).what(), std::string("a\\x0ab\\x1b[31m\\xff\xc3\xa9\\xc2\\x9b\\x00z"));
+    // A number the pattern lets through but a double cannot hold.
+    for (const std::string v : {"1e-32050"})
+      EXPECT_NE(error_of("", {"Injection/Jamming force=" + v})
+                    .find("Injection/Jamming force: '" + v + "' is out of the range of a double"),
+                std::string::npos)
+          << v;
     const auto msg = error_of("", {"Cavity/Radius=1\n2"});
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
     EXPECT_NE(msg.find("Cavity/Radius: '1\\x0a2'"), std::string::npos) << msg;

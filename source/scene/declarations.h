@@ -91,12 +91,28 @@ namespace wirefem::scene
       order.push_back({path, std::move(read), nullptr, Range::any});
     }
 
+    /// `v` as a double; a value the pattern let through but a double cannot
+    /// hold (1e-32050, 1e400) is bad input naming the key.
+    static double to_double(const std::string &v, const std::string &where, const std::string &path)
+    {
+      try
+        {
+          return std::stod(v);
+        }
+      catch (const std::exception &)
+        {
+          throw InputError(where + ": " + path + ": '" + v + "' is out of the range of a double");
+        }
+    }
+
     /// A real number bound to `target`, which must lie in `range`.
     void number(const std::string &path, const std::string &default_value, const std::string &doc,
                 double &target, const Range range = Range::any)
     {
       declare(path, default_value, Patterns::Double(), doc,
-              [&target](const std::string &v, const std::string &) { target = std::stod(v); });
+              [&target, path](const std::string &v, const std::string &where) {
+                target = to_double(v, where, path);
+              });
       order.back().value = &target;
       order.back().range = range;
     }
@@ -141,10 +157,10 @@ namespace wirefem::scene
                  std::vector<double> &target)
     {
       declare(path, default_value, Patterns::List(Patterns::Double(), 1), doc,
-              [&target](const std::string &v, const std::string &) {
+              [&target, path](const std::string &v, const std::string &where) {
                 target.clear();
                 for (const auto &item : dealii::Utilities::split_string_list(v))
-                  target.push_back(std::stod(item));
+                  target.push_back(to_double(item, where, path));
               });
     }
 
