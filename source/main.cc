@@ -51,7 +51,7 @@ namespace
     catch (const wirefem::core::InputError &e)
       {
         if (!quiet)
-          std::cerr << name << ": error: " << wirefem::core::printable(e.what()) << '\n';
+          std::cerr << name << ": error: " << e.what() << '\n'; // printable already
         return 2;
       }
     catch (const std::exception &e)

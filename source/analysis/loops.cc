@@ -375,78 +375,89 @@ namespace wirefem::analysis
     }
   } // namespace
 
+  namespace
+  {
+    int planar_loops(const Refined &r)
+    {
+      if (r.chord.empty())
+        return 0;
+      PlanarGraph g = planar_graph(r);
+      merge_coincident_vertices(g);
+      std::vector<std::pair<int, int>> crossings;
+      if (!find_crossings(g, crossings))
+        return -1;
+      if (!crossings.empty())
+        {
+          // Chords that cross (contacts fanning out from one piece), or wire
+          // crossing at a large overlap: split there, and check again that
+          // the rounded crossing points made nothing degenerate.
+          g = split_at_crossings(g, crossings);
+          crossings.clear();
+          merge_coincident_vertices(g);
+          if (!find_crossings(g, crossings) || !crossings.empty())
+            return -1;
+        }
+      return trace_loop_faces(g, rotation_system(g));
+    }
+
+    int arrangement_loops(const Refined &r)
+    {
+      std::vector<Traits::Curve_2> curves;
+      curves.reserve(r.vertex.size() + r.chord.size());
+      auto point = [&](const int k) { return Kernel::Point_2(r.vertex[k].x, r.vertex[k].y); };
+      for (std::size_t k = 0; k + 1 < r.vertex.size(); ++k)
+        curves.emplace_back(SegmentTraits::Curve_2(point(k), point(k + 1)), static_cast<int>(k));
+      for (std::size_t c = 0; c < r.chord.size(); ++c)
+        curves.emplace_back(SegmentTraits::Curve_2(point(r.chord[c].first), point(r.chord[c].second)),
+                            -1 - static_cast<int>(c));
+      Arrangement arr;
+      CGAL::insert(arr, curves.begin(), curves.end());
+
+      int loops = 0;
+      for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f)
+        {
+          if (f->is_unbounded() || f->number_of_holes() > 0)
+            continue;
+          int chords = 0;
+          std::set<int> pieces;
+          auto he = f->outer_ccb();
+          const auto first = he;
+          do
+            {
+              const int label = he->curve().data();
+              if (label < 0)
+                ++chords;
+              else
+                pieces.insert(label);
+            }
+          while (++he != first && chords <= 1);
+          // One chord and one contiguous stretch of wire.
+          if (chords == 1 && !pieces.empty() &&
+              *pieces.rbegin() - *pieces.begin() + 1 == static_cast<int>(pieces.size()))
+            ++loops;
+        }
+      return loops;
+    }
+  } // namespace
+
+  // The wire is refined once; the arrangement is the fall-back of the tracing.
   int count_loops(const core::WireState &wire)
   {
-    const int planar = count_loops_planar(wire);
-    return planar >= 0 ? planar : count_loops_arrangement(wire);
+    if (wire.points.size() < 3 || wire.self_contacts.empty())
+      return 0;
+    const Refined r = refine(wire);
+    const int planar = planar_loops(r);
+    return planar >= 0 ? planar : arrangement_loops(r);
   }
 
   int count_loops_planar(const core::WireState &wire)
   {
-    if (wire.points.size() < 3 || wire.self_contacts.empty())
-      return 0;
-    const Refined r = refine(wire);
-    if (r.chord.empty())
-      return 0;
-    PlanarGraph g = planar_graph(r);
-    merge_coincident_vertices(g);
-    std::vector<std::pair<int, int>> crossings;
-    if (!find_crossings(g, crossings))
-      return -1;
-    if (!crossings.empty())
-      {
-        // Chords that cross (contacts fanning out from one piece), or wire
-        // crossing at a large overlap: split there, and check again that
-        // the rounded crossing points made nothing degenerate.
-        g = split_at_crossings(g, crossings);
-        crossings.clear();
-        merge_coincident_vertices(g);
-        if (!find_crossings(g, crossings) || !crossings.empty())
-          return -1;
-      }
-    return trace_loop_faces(g, rotation_system(g));
+    return wire.points.size() < 3 || wire.self_contacts.empty() ? 0 : planar_loops(refine(wire));
   }
 
   int count_loops_arrangement(const core::WireState &wire)
   {
-    if (wire.points.size() < 3 || wire.self_contacts.empty())
-      return 0;
-    const Refined r = refine(wire);
-    std::vector<Traits::Curve_2> curves;
-    curves.reserve(r.vertex.size() + r.chord.size());
-    auto point = [&](const int k) { return Kernel::Point_2(r.vertex[k].x, r.vertex[k].y); };
-    for (std::size_t k = 0; k + 1 < r.vertex.size(); ++k)
-      curves.emplace_back(SegmentTraits::Curve_2(point(k), point(k + 1)), static_cast<int>(k));
-    for (std::size_t c = 0; c < r.chord.size(); ++c)
-      curves.emplace_back(SegmentTraits::Curve_2(point(r.chord[c].first), point(r.chord[c].second)),
-                          -1 - static_cast<int>(c));
-    Arrangement arr;
-    CGAL::insert(arr, curves.begin(), curves.end());
-
-    int loops = 0;
-    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f)
-      {
-        if (f->is_unbounded() || f->number_of_holes() > 0)
-          continue;
-        int chords = 0;
-        std::set<int> pieces;
-        auto he = f->outer_ccb();
-        const auto first = he;
-        do
-          {
-            const int label = he->curve().data();
-            if (label < 0)
-              ++chords;
-            else
-              pieces.insert(label);
-          }
-        while (++he != first && chords <= 1);
-        // One chord and one contiguous stretch of wire.
-        if (chords == 1 && !pieces.empty() &&
-            *pieces.rbegin() - *pieces.begin() + 1 == static_cast<int>(pieces.size()))
-          ++loops;
-      }
-    return loops;
+    return wire.points.size() < 3 || wire.self_contacts.empty() ? 0 : arrangement_loops(refine(wire));
   }
 } // namespace wirefem::analysis
 
