@@ -23,6 +23,7 @@
 #include <iostream>
 #include <map>
 #include <random>
+#include <sstream>
 #include <vector>
 
 namespace
@@ -455,6 +456,8 @@ namespace
         EXPECT_NEAR(sf.history.elongation, law.history.elongation, 1e-12);
         EXPECT_EQ(sf.history.sliding, law.history.sliding);
         EXPECT_NEAR(sf.dissipated, law.dissipated, 1e-12);
+        EXPECT_NEAR(sf.stored,
+                    0.5 * fc.tangential_stiffness * law.history.elongation * law.history.elongation, 1e-12);
         for (int i = 0; i < 2; ++i)
           EXPECT_NEAR(cc.friction_residual[i], -law.force * (i ? t.y : t.x), 1e-12);
         for (int j = 0; j < 2; ++j)
@@ -1049,6 +1052,56 @@ namespace
     EXPECT_EQ(largest_distance(straight, resumed), 0.0);
   }
 
+  TEST(RodModel, WallSpringsAreInTheCheckpoint)
+  {
+    // Under the spring law each wall contact's spring is state: a run
+    // resumed from a checkpoint continues bit for bit, and the same
+    // checkpoint with its springs zeroed after loading does not. The wire
+    // is elastic with mu_st = 5, so that some contacts stick.
+    const auto s = fem_scene({"Wire/Plasticity/Enabled=false", "Contact/Friction/Static coefficient=5",
+                              "FEM/Friction law=spring"});
+    fem::RodModel straight(s), first(s), resumed(s), forgetful(s);
+    checks::run_straight_and_resumed(straight, first, resumed, 38.0, 45.0);
+    const auto &springs = fem::RodModelProbe::wall_springs(first);
+    EXPECT_TRUE(std::any_of(springs.begin(), springs.end(), [](const auto &h) {
+      return h.elongation != 0.0 && !h.sliding;
+    })) << "no wall contact sticking at the checkpoint";
+    EXPECT_EQ(straight.n_steps(), resumed.n_steps());
+    EXPECT_EQ(straight.time(), resumed.time());
+    EXPECT_EQ(largest_distance(straight, resumed), 0.0);
+    std::stringstream buffer;
+    first.save(buffer);
+    forgetful.load(buffer);
+    for (auto &h : fem::RodModelProbe::wall_springs(forgetful))
+      h = contact::FrictionHistory{};
+    while (forgetful.injected_length() < 45.0)
+      forgetful.step();
+    EXPECT_GT(largest_distance(straight, forgetful), 1e-9);
+  }
+
+  TEST(RodModel, SpringLawBooksTheWallSpringsEnergy)
+  {
+    // What the wall springs hold is stored energy (zero when no spring is
+    // loaded), not friction work: with it the ledger balances as tightly
+    // as under the regularised law.
+    fem::RodModel m(fem_scene({"Wire/Plasticity/Yield curvature=0.05", "FEM/Friction law=spring"}));
+    double most = 0.0;
+    while (m.injected_length() < 45.0)
+      {
+        m.step();
+        const auto &springs = fem::RodModelProbe::wall_springs(m);
+        const bool loaded =
+            std::any_of(springs.begin(), springs.end(), [](const auto &h) { return h.elongation != 0.0; });
+        EXPECT_EQ(m.energies().friction_stored > 0.0, loaded) << "at t = " << m.time();
+        most = std::max(most, m.energies().friction_stored);
+      }
+    const auto &e = m.energies();
+    EXPECT_GT(most, 0.0);
+    EXPECT_GT(e.friction, 0.0);
+    EXPECT_LT(std::abs(e.balance_error()), 0.01) << "in " << e.initial + e.injection_work;
+    EXPECT_LT(m.report().max_penetration, 0.1);
+  }
+
   TEST(RodModel, StatisticsCountTheSolversWork)
   {
     // What summary.json records as solver_statistics on the injection
@@ -1207,7 +1260,7 @@ namespace
         scene::read_scene("", {"Set-up=capstan", "Model=fem", "Cavity/Radius=25",
                                "Wire/Plasticity/Enabled=false", "Wire/Axial stiffness=1e5",
                                "FEM/Element length=0.25", "Contact/Friction/Wall static coefficient=0.3",
-                               "Contact/Friction/Wall dynamic coefficient=0.24"});
+                               "Contact/Friction/Wall dynamic coefficient=0.24", "FEM/Friction law=regularised"});
     const auto r = run_capstan_in(s, "fem_capstan_sliding");
     ASSERT_TRUE(r.finished);
     EXPECT_NEAR(r.wrap_angle, 0.5 * M_PI, 1e-12);

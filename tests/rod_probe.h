@@ -114,6 +114,12 @@ namespace wirefem::fem
     /// FEM/Overlap growth, and the step cap they are measured against.
     static unsigned long overlap_cuts(const RodModel &rod) { return rod.impl->overlap_cuts; }
     static double step_cap(const RodModel &rod) { return rod.impl->dt_max; }
+    /// The wall springs of FEM/Friction law = spring (per node, at the last
+    /// accepted step), writable so that a test can make a model forget them.
+    static std::vector<contact::FrictionHistory> &wall_springs(RodModel &rod)
+    {
+      return rod.impl->wall_springs;
+    }
     /// Newton iterations (linear solves) of all attempts, cut ones included.
     static unsigned long newton_iterations(const RodModel &rod) { return rod.impl->newton_iterations; }
 

@@ -150,7 +150,7 @@ namespace wirefem::fem
   bool wall_contact_spring(const double radius, const ContactSettings &s, const double weight,
                            const double stiffness_ratio, const Vec2 &x, const Vec2 &x_old, const double dt,
                            const contact::FrictionHistory &old, ContactContribution &out,
-                           SpringFriction &friction)
+                           SpringFriction &friction, const double friction_scale)
   {
     WallPoint w;
     if (!wall_point(radius, s, weight, x, w))
@@ -184,10 +184,11 @@ namespace wirefem::fem
             0.5 * (kt * old.elongation - ft.val()) * slip.val() -
             0.5 * kt *
                 (friction.history.elongation * friction.history.elongation - old.elongation * old.elongation);
+        friction.stored = 0.5 * kt * friction.history.elongation * friction.history.elongation;
         rf[0] = -ft * tx;
         rf[1] = -ft * ty;
       }
-    finish_wall(w, rf, 1.0, out);
+    finish_wall(w, rf, friction_scale, out);
     return true;
   }
 

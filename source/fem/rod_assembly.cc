@@ -141,7 +141,7 @@ namespace wirefem::fem
     e.node_contact_force.assign(n_nodes, 0.0);
     e.pairs.clear();
     e.axial = e.shear = e.bending = e.contact = e.plastic = e.max_overlap = 0;
-    e.push_force = 0;
+    e.push_force = e.friction_stored = 0;
     e.wall_history.clear();
     e.n_wall = 0;
     if (rq.want_tangent)
@@ -304,7 +304,7 @@ namespace wirefem::fem
             channels.is_tangential()
                 ? injection::nodes_past_tangential_inlets(first, last, [&](int k) { return u1[3 * k + 1]; })
                 : std::pair{first, last};
-        const bool spring = cap.spring && rq.step > 0.0;
+        const bool spring = wall_spring && rq.step > 0.0;
         if (spring)
           e.wall_history.assign(n_nodes, contact::FrictionHistory{});
         for (int k = wall_first; k < wall_last; ++k)
@@ -322,14 +322,17 @@ namespace wirefem::fem
   bool RodModel::Impl::wall_spring_contact(const AssemblyRequest &rq, const int k, ContactContribution &cc,
                                            Evaluation &e) const
   {
-    // The spring law (capstan only): a sticking spring per wall contact,
-    // whose history is the last accepted step's; the trial is kept in e.
+    // The spring law: a sticking spring per wall contact, whose history is
+    // the last accepted step's; the trial is kept in e.
     SpringFriction sf;
     const bool touching = wall_contact_spring(
         radius, wall_settings, node_weight(k), scene.contact.friction.tangential_stiffness_ratio,
-        position(*rq.u, k), position(u, k), rq.step, cap.history[k], cc, sf);
+        position(*rq.u, k), position(u, k), rq.step, wall_springs[k], cc, sf, rq.friction_scale());
     if (touching)
-      e.wall_history[k] = sf.history;
+      {
+        e.wall_history[k] = sf.history;
+        e.friction_stored += sf.stored;
+      }
     return touching;
   }
 

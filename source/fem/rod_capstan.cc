@@ -21,7 +21,6 @@ namespace wirefem::fem
     a_right = n_cells * h;
     cap.velocity = cs.velocity_control;
     cap.roller = cs.trailing_roller;
-    cap.spring = s.fem.spring_friction;
     cap.held = s.wire.bending_stiffness / cap.Rc; // clockwise
     cap.a0 = 0.5 * M_PI + 0.5 * a_right / cap.Rc;
     cap.t_end = cap.velocity ? cs.slide_time() : cs.maximum_time;
@@ -45,7 +44,6 @@ namespace wirefem::fem
       }
     const unsigned int lead = n_nodes - 1;
     cap.lead_angle0 = std::atan2(u[3 * lead + 1], u[3 * lead]);
-    cap.history.assign(n_nodes, contact::FrictionHistory{});
   }
 
   void RodModel::Impl::assemble_capstan_loads(const AssemblyRequest &rq, Evaluation &e)

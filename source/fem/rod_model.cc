@@ -256,8 +256,8 @@ namespace wirefem::fem
       {
         // The coefficient steady sliding mobilises at the push speed (mu_d
         // under the spring law).
-        const double sliding = m.cap.spring ? m.wall_settings.mu_dynamic
-                                            : sliding_coefficient(m.wall_settings, m.scene.capstan.speed);
+        const double sliding = m.wall_spring ? m.wall_settings.mu_dynamic
+                                             : sliding_coefficient(m.wall_settings, m.scene.capstan.speed);
         return {{"elements", m.n_cells},
                 {"degree", m.p},
                 {"element_length", m.h},
@@ -306,6 +306,7 @@ namespace wirefem::fem
     core::write_raw(out, m.sp_first);
     core::write_raw(out, m.sp_last);
     core::write_vector(out, m.sp_pairs, 0, m.sp_pairs.size());
+    core::write_vector(out, m.wall_springs, 0, m.wall_springs.size());
     for (const auto &w : m.window)
       {
         core::write_raw(out, w.injected);
@@ -350,6 +351,12 @@ namespace wirefem::fem
     // continues.
     if (m.sp_first >= 0)
       m.rebuild_sparsity(m.sp_first, m.sp_last, m.sp_pairs);
+    if (core::peek_vector_size(in) != m.wall_springs.size())
+      throw std::runtime_error("checkpoint does not fit this scene");
+    core::read_vector(in, m.wall_springs);
+    for (const auto &w : m.wall_springs)
+      if (!std::isfinite(w.elongation))
+        throw std::runtime_error("checkpoint holds a non-finite wall spring");
     for (auto &w : m.window)
       {
         w.injected = core::read_raw<double>(in);

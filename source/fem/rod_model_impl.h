@@ -63,6 +63,7 @@ namespace wirefem::fem
     int n_wall = 0;
     double push_force = 0;                              ///< capstan: axial force at the pushed end
     std::vector<contact::FrictionHistory> wall_history; ///< spring law: trial, per node
+    double friction_stored = 0;                         ///< spring law: in the wall springs
   };
 
   /// What one assembly is asked for: the state at the end of the step, the
@@ -132,6 +133,10 @@ namespace wirefem::fem
     material::MomentCurvatureLaw law{1.0};
     bool plastic = false, viscous = false;
     ContactSettings wall_settings, self_settings;
+    /// Wall friction by the discrete model's spring law (FEM/Friction law =
+    /// spring): each node's wall spring at the last accepted step.
+    bool wall_spring = false;
+    std::vector<contact::FrictionHistory> wall_springs;
 
     unsigned int n_cells = 0, n_nodes = 0, n_local = 0;
     std::vector<double> node_S;                       // material coordinate of node k (sorted)
@@ -295,10 +300,6 @@ namespace wirefem::fem
       double lead_angle0 = 0.0; ///< polar angle of the leading end at t = 0
       double t_end = 0.0;       ///< velocity control: the time the slide is done
       bool velocity = true, roller = true;
-      /// Spring-law wall friction (FEM/Friction law = spring): the history
-      /// of each node's wall contact at the last accepted step.
-      bool spring = false;
-      std::vector<contact::FrictionHistory> history;
     } cap;
     void build_capstan_mesh(const scene::RodScene &s);
     void set_capstan_state();

@@ -194,6 +194,8 @@ namespace wirefem::fem
     wall_settings.mu_dynamic = fr.wall_dynamic_coefficient;
     wall_settings.friction = con.wall_contact && (keep || fr.wall_static_coefficient > 0 || capstan);
     wall_settings.mouths = !channels.is_tangential(); // the capstan's cavity has the radial channels too
+    wall_spring = s.fem.spring_friction;
+    wall_springs.assign(wall_spring ? n_nodes : 0, contact::FrictionHistory{});
     self_settings.mu_static = fr.static_coefficient;
     self_settings.mu_dynamic = fr.dynamic_coefficient;
     self_settings.friction = con.self_contact && (keep || fr.static_coefficient > 0);

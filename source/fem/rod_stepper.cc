@@ -326,7 +326,10 @@ namespace wirefem::fem
         friction += e.friction[i] * du_i;
         viscous += (e.dissipative[i] - e.friction[i]) * du_i;
       }
-    ledger.friction += friction;
+    // Under the spring law the friction forces also load the wall springs:
+    // what they hold is stored, not dissipated (as in the discrete model).
+    ledger.friction += friction - (e.friction_stored - ledger.friction_stored);
+    ledger.friction_stored = e.friction_stored;
     ledger.plastic += e.plastic;
     ledger.damping += viscous;
     ledger.stretching = e.axial;
@@ -336,8 +339,8 @@ namespace wirefem::fem
     ledger.kinetic = kinetic_energy(v1, first, last);
     last_report = {e.max_overlap, static_cast<int>(e.pairs.size()), e.n_wall};
 
-    if (capstan && cap.spring && !e.wall_history.empty())
-      cap.history = e.wall_history;
+    if (wall_spring && !e.wall_history.empty())
+      wall_springs = e.wall_history;
     u = u1;
     v = v1;
     a = a1;

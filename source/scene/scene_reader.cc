@@ -89,8 +89,6 @@ namespace wirefem::scene
         }
       check(!s.contact.friction.surface_torque || s.model == ModelType::discrete, w,
             "Contact/Friction/Surface torque", "is implemented for Model = discrete only");
-      check(!s.fem.spring_friction || s.model == ModelType::discrete || s.setup == Setup::capstan, w,
-            "FEM/Friction law", "'spring' is implemented for Set-up = capstan only");
       check(!s.fem.modified_newton || !s.fem.kept_factors, w, "FEM/Newton",
             "'modified' reuses LU factors in direct solves: it needs FEM/Linear solver = refactorise");
     }

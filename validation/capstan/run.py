@@ -37,7 +37,8 @@ which differ by O(zeta^2); both are computed here from the run's geometry.
 
 - The rod FEM in steady sliding (velocity control; quasi-static, fem::RodModel): the
   same sliding cases at degree 1 (h = 2 ... 0.125) and 2 (h = 1 ... 0.25).
-  Its friction law is regularised, mu(v) tanh(v / v_th); at the push speed
+  Its friction law is the regularised one (`FEM/Friction law =
+  regularised`), mu(v) tanh(v / v_th); at the push speed
   it mobilises the coefficient mu_V (`sliding_coefficient`, 0.2404 for
   mu_d = 0.24). Its rod is extensible (EA = 1000) and the compression
   shortens the wrap: on an extensible rod the law is N = T0 exp(mu_V theta)
@@ -114,8 +115,9 @@ def fem_cases(wirefem, outdir, failures, cases):
         for h in lengths:
             out = os.path.join(outdir, f"fem_slide_{wrap:.4f}_{mu_st:g}_{p}_{h:g}"
                                + ("" if roller else "_clamped"))
-            s = study.run(wirefem, PRM, ["Model=fem", f"FEM/Degree={p}", f"FEM/Element length={h!r}",
-                                         f"Capstan/Wrap angle={wrap!r}", f"Capstan/Trailing end={support}"]
+            s = study.run(wirefem, PRM, ["Model=fem", "FEM/Friction law=regularised", f"FEM/Degree={p}",
+                                         f"FEM/Element length={h!r}", f"Capstan/Wrap angle={wrap!r}",
+                                         f"Capstan/Trailing end={support}"]
                           + friction(mu_st, mu_d), out)
             ref = continuum(s, mu_d)
             ext = extensible(s, s["sliding_coefficient"])

@@ -26,13 +26,18 @@ SCENES = {
     },
 }
 GRID = 0.001  # phi spacing of the averaged force
-# The studies: a scene with a model, cavity radius and seeds; run
-# directories OUTDIR/<study>_s<seed>.
+# The studies: a scene with a model, cavity radius and seeds, and keys of
+# the model ("sets", named in the report by "label"); run directories
+# OUTDIR/<study>_s<seed>.
+REGULARISED = {"sets": ["FEM/Friction law=regularised"], "label": "fem, FEM/Friction law = regularised"}
+SPRING = {"sets": ["FEM/Friction law=spring"], "label": "fem, FEM/Friction law = spring"}
 STUDIES = {
     "fig5": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
     "elastic": {"scene": "elastic", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
-    "fig5_fem": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4)},
-    "elastic_fem": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4)},
+    "fig5_fem": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **REGULARISED},
+    "elastic_fem": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4), **REGULARISED},
+    "fig5_fem_spring": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **SPRING},
+    "elastic_fem_spring": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4), **SPRING},
     "elastic_f50": {"scene": "elastic", "model": "discrete", "radius": 50, "seeds": range(1, 4)},
 }
 
@@ -110,7 +115,8 @@ def study_results(outdir, study):
         if finished(out):
             runs.append(read_run(out))
     s = SCENES[st["scene"]]
-    r = {"runs": len(runs), "scene": st["scene"], "study": study, "model": st["model"], "radius": st["radius"],
+    r = {"runs": len(runs), "scene": st["scene"], "study": study, "model": st.get("label", st["model"]),
+         "radius": st["radius"],
          "seeds": st["seeds"]}
     if not runs:
         return r

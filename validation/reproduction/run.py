@@ -50,7 +50,8 @@ def run_case(wirefem, outdir, study, seed):
     again = "--resume" if os.path.exists(os.path.join(out, "checkpoint.bin")) else "--replace"
     cmd = [wirefem, os.path.join(ROOT, "prm", "classic.prm"), again, "--set", f"Output/Directory={out}",
            "--set", f"Injection/Seed={seed}"]
-    sets = BASE + [f"Cavity/Radius={st['radius']}", f"Model={st['model']}"] + analysis.SCENES[st["scene"]]["sets"]
+    sets = (BASE + [f"Cavity/Radius={st['radius']}", f"Model={st['model']}"] + analysis.SCENES[st["scene"]]["sets"] +
+            st.get("sets", []))
     for s in sets:
         cmd += ["--set", s]
     with open(out + ".log", "w") as log:

@@ -72,6 +72,7 @@ namespace wirefem::fem
   {
     contact::FrictionHistory history; ///< after this step (trial until committed)
     double dissipated = 0.0;          ///< over this step
+    double stored = 0.0;              ///< in the spring after this step, 1/2 k_t u^2
   };
 
   /// The wall with the discrete model's friction law (contact/friction_law.h)
@@ -86,7 +87,7 @@ namespace wirefem::fem
   bool wall_contact_spring(double radius, const ContactSettings &s, double weight, double stiffness_ratio,
                            const core::Vec2 &x, const core::Vec2 &x_old, double dt,
                            const contact::FrictionHistory &old, ContactContribution &out,
-                           SpringFriction &friction);
+                           SpringFriction &friction, double friction_scale = 1.0);
 
   /// Point x[0] against the segment x[1]-x[2] (the closest point of the
   /// segment, clamped to its ends). t: the segment parameter of the closest

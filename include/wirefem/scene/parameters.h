@@ -246,7 +246,7 @@ namespace wirefem::scene
     unsigned int krylov_iterations = 8; ///< GMRES iterations before a refactorisation
     bool modified_newton = false;       ///< reuse a step's first LU while Newton contracts fast
     double newton_contraction = 0.1;    ///< modified Newton: largest residual ratio on kept factors
-    bool spring_friction = false;       ///< the discrete model's friction law (capstan only)
+    bool spring_friction = true;        ///< wall friction by the discrete model's law (FEM/Friction law)
     /// eta_a (force time): axial dashpot N_v = eta_a d(eps)/dt; from the
     /// scene file, or the discrete model's dashpot in its continuum limit
     /// (Discrete/Axial damping * lambda_0) when that is negative.
