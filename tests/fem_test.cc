@@ -1102,6 +1102,31 @@ namespace
     EXPECT_LT(m.report().max_penetration, 0.1);
   }
 
+  TEST(RodModel, ExplicitStepsLoadTheWallSprings)
+  {
+    // The explicit integrator takes its forces at the start of the step:
+    // its wall springs stretch by the motion over the step before, so the
+    // walls hold (some springs stick), friction does work and the ledger
+    // closes. Without self contact: the explicit steps' regularised self
+    // friction at mu_st = 5 does not close it (docs/notes/
+    // 2026-12-05-fem-friction-law.md).
+    fem::RodModel m(fem_scene({"FEM/Integrator=explicit", "Wire/Plasticity/Enabled=false",
+                               "Contact/Friction/Static coefficient=5", "FEM/Friction law=spring",
+                               "Contact/Self contact=false"}));
+    int sticking = 0;
+    while (m.injected_length() < 30.0)
+      {
+        m.step();
+        const auto &springs = fem::RodModelProbe::wall_springs(m);
+        sticking += std::any_of(springs.begin(), springs.end(),
+                                [](const auto &h) { return h.elongation != 0.0 && !h.sliding; });
+      }
+    const auto &e = m.energies();
+    EXPECT_GT(sticking, 100);
+    EXPECT_GT(e.friction, 0.0);
+    EXPECT_LT(std::abs(e.balance_error()), 0.01) << "in " << e.initial + e.injection_work;
+  }
+
   TEST(RodModel, StatisticsCountTheSolversWork)
   {
     // What summary.json records as solver_statistics on the injection
@@ -1256,11 +1281,11 @@ namespace
     // A nearly inextensible rod (EA = 1e5) on the wall over pi/2, slid
     // against T0 = 1: its push force is T0 exp(mu_V Theta), with mu_V the
     // regularised law's coefficient at the push speed.
-    const auto s =
-        scene::read_scene("", {"Set-up=capstan", "Model=fem", "Cavity/Radius=25",
-                               "Wire/Plasticity/Enabled=false", "Wire/Axial stiffness=1e5",
-                               "FEM/Element length=0.25", "Contact/Friction/Wall static coefficient=0.3",
-                               "Contact/Friction/Wall dynamic coefficient=0.24", "FEM/Friction law=regularised"});
+    const auto s = scene::read_scene(
+        "", {"Set-up=capstan", "Model=fem", "Cavity/Radius=25", "Wire/Plasticity/Enabled=false",
+             "Wire/Axial stiffness=1e5", "FEM/Element length=0.25",
+             "Contact/Friction/Wall static coefficient=0.3", "Contact/Friction/Wall dynamic coefficient=0.24",
+             "FEM/Friction law=regularised"});
     const auto r = run_capstan_in(s, "fem_capstan_sliding");
     ASSERT_TRUE(r.finished);
     EXPECT_NEAR(r.wrap_angle, 0.5 * M_PI, 1e-12);

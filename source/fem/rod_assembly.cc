@@ -327,7 +327,7 @@ namespace wirefem::fem
     SpringFriction sf;
     const bool touching = wall_contact_spring(
         radius, wall_settings, node_weight(k), scene.contact.friction.tangential_stiffness_ratio,
-        position(*rq.u, k), position(u, k), rq.step, wall_springs[k], cc, sf, rq.friction_scale());
+        position(*rq.u, k), spring_from[k], rq.step, wall_springs[k], cc, sf, rq.friction_scale());
     if (touching)
       {
         e.wall_history[k] = sf.history;

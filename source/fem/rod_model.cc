@@ -307,6 +307,7 @@ namespace wirefem::fem
     core::write_raw(out, m.sp_last);
     core::write_vector(out, m.sp_pairs, 0, m.sp_pairs.size());
     core::write_vector(out, m.wall_springs, 0, m.wall_springs.size());
+    core::write_vector(out, m.spring_from, 0, m.spring_from.size());
     for (const auto &w : m.window)
       {
         core::write_raw(out, w.injected);
@@ -354,8 +355,14 @@ namespace wirefem::fem
     if (core::peek_vector_size(in) != m.wall_springs.size())
       throw std::runtime_error("checkpoint does not fit this scene");
     core::read_vector(in, m.wall_springs);
+    if (core::peek_vector_size(in) != m.spring_from.size())
+      throw std::runtime_error("checkpoint does not fit this scene");
+    core::read_vector(in, m.spring_from);
     for (const auto &w : m.wall_springs)
       if (!std::isfinite(w.elongation))
+        throw std::runtime_error("checkpoint holds a non-finite wall spring");
+    for (const auto &x : m.spring_from)
+      if (!std::isfinite(x.x) || !std::isfinite(x.y))
         throw std::runtime_error("checkpoint holds a non-finite wall spring");
     for (auto &w : m.window)
       {

@@ -137,6 +137,11 @@ namespace wirefem::fem
     /// spring): each node's wall spring at the last accepted step.
     bool wall_spring = false;
     std::vector<contact::FrictionHistory> wall_springs;
+    /// Where each node was when its wall spring was last committed: the
+    /// start of the step for an implicit step, the start of the step
+    /// before for an explicit one (whose forces are taken at the start).
+    std::vector<Vec2> spring_from;
+    void note_spring_positions(const dealii::Vector<double> &at);
 
     unsigned int n_cells = 0, n_nodes = 0, n_local = 0;
     std::vector<double> node_S;                       // material coordinate of node k (sorted)

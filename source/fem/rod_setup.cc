@@ -30,6 +30,15 @@ namespace wirefem::fem
     build_mesh(scene);
     build_physics(scene);
     set_initial_state(scene);
+    if (wall_spring)
+      note_spring_positions(u);
+  }
+
+  void RodModel::Impl::note_spring_positions(const dealii::Vector<double> &at)
+  {
+    spring_from.resize(n_nodes);
+    for (unsigned int k = 0; k < n_nodes; ++k)
+      spring_from[k] = position(at, k);
   }
 
   void RodModel::Impl::build_mesh(const scene::RodScene &s)

@@ -50,7 +50,11 @@ namespace wirefem::fem
       if (static_cast<int>(i) < 3 * first_free || static_cast<int>(i) >= 3 * last_free)
         e.residual[i] += mass[i] * a1[i];
     history.assign(1, 0.0);
+    // The forces were taken at u_n: the springs continue from there.
+    const dealii::Vector<double> from(u);
     commit(step, first, last, u1, v1, a1, e, first_free, last_free);
+    if (wall_spring)
+      note_spring_positions(from);
   }
 
   void RodModel::Impl::predict(const double step, const int first, const int last, StepState &x) const
@@ -340,7 +344,10 @@ namespace wirefem::fem
     last_report = {e.max_overlap, static_cast<int>(e.pairs.size()), e.n_wall};
 
     if (wall_spring && !e.wall_history.empty())
-      wall_springs = e.wall_history;
+      {
+        wall_springs = e.wall_history;
+        note_spring_positions(u1);
+      }
     u = u1;
     v = v1;
     a = a1;
