@@ -1,10 +1,14 @@
 # Runs EXE PRM --set SETTING [--set MODEL] and expects exit 0 and summary.json
-# "failed": false. MODEL (optional) is a second setting, such as Model=fem;
-# JAMMED=ON also asks for "jammed": true.
+# "failed": false. MODEL (optional) is a second setting, such as Model=fem,
+# EXTRA (optional) a list of more; JAMMED=ON also asks for "jammed": true,
+# MIN_PHI=x for phi_final >= x.
 set(extra)
 if(MODEL)
   set(extra --set ${MODEL})
 endif()
+foreach(setting ${EXTRA})
+  list(APPEND extra --set ${setting})
+endforeach()
 execute_process(COMMAND ${EXE} ${PRM} --set ${SETTING} ${extra} --replace --set Output/Directory=${OUT} --set Output/Progress=off
                 RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_VARIABLE out)
 message("${out}")
@@ -22,6 +26,12 @@ if(JAMMED)
   string(JSON jammed GET "${summary}" jammed)
   if(NOT jammed)
     message(FATAL_ERROR "the run did not jam: ${summary}")
+  endif()
+endif()
+if(MIN_PHI)
+  string(JSON phi GET "${summary}" phi_final)
+  if(phi LESS MIN_PHI)
+    message(FATAL_ERROR "the run ended at phi ${phi}, below ${MIN_PHI}: ${summary}")
   endif()
 endif()
 # The summary names the code that made it: the version `wirefem --version`

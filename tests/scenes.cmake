@@ -174,6 +174,15 @@ foreach(scene_f classic:15 plastic:15 classic:25)
                    -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
   set_tests_properties(scene.fem_${scene}_f${f}_jams PROPERTIES LABELS stress TIMEOUT 3600)
 endforeach()
+# The elastic wire at mu_st = 5, f = 15: the chain reaches phi_max 0.6 with
+# 16-17 loops (seeds 1-3), the FEM with the chain's wall friction too (seed
+# 1); with the regularised wall friction the FEM jammed at 0.139 (about
+# 2 min).
+add_test(NAME scene.fem_elastic_f15_packs_as_the_chain
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
+                 -DSETTING=Cavity/Radius=15 -DMODEL=Model=fem -DEXTRA=Wire/Plasticity/Enabled=false -DMIN_PHI=0.5
+                 -DOUT=${SCENE_OUT}/fem_elastic_f15 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+set_tests_properties(scene.fem_elastic_f15_packs_as_the_chain PROPERTIES LABELS stress TIMEOUT 1800)
 
 add_test(NAME scene.damaged_checkpoint_refused
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/damaged_checkpoint.sh ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm

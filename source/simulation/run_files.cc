@@ -22,7 +22,7 @@ namespace wirefem::simulation
     /// Layout of checkpoint.bin: magic, version, payload size, FNV-1a 64
     /// checksum of the payload, payload (fingerprint, loop state, pvd
     /// entries, the model's state).
-    constexpr std::uint64_t checkpoint_version = 6;
+    constexpr std::uint64_t checkpoint_version = 7;
 
     std::uint64_t fnv1a(const std::string &bytes)
     {

@@ -229,7 +229,12 @@ def report(outdir):
               "covers about one decade, and over it the force of the elastic scene grows about exponentially in "
               "phi rather than as a power of (phi_c - phi); beta then depends on the window and on whether phi_c "
               "is free. The yield axis of the phase diagram (classic from kappa_theta 0.3 here, 0.027 in the "
-              "paper) is a finding of this code; what was tried is in `docs/notes/2026-12-04-readme-record.md`."]
+              "paper) is a finding of this code; what was tried is in `docs/notes/2026-12-04-readme-record.md`.",
+              "",
+              "The FEM's rows come in two wall-friction laws: `FEM/Friction law = spring` (the chain's law, the "
+              "FEM's default) and `regularised` (mu(v) tanh(v/v_th), its law before). With the elastic wire at "
+              "mu_st 5 only the first agrees with the chain; why is in "
+              "`docs/notes/2026-12-05-fem-friction-law.md`."]
     versions = sorted({v for r in results for v in r.get("versions", [])})
     lines += ["", f"Runs made by wirefem {', '.join(versions)}.", "",
               "The inlet force averaged over the 9 discrete realizations at f = 25, and its fits:", "",

@@ -8,8 +8,10 @@ report with figures.
 Done so far: phi_c, beta and gamma of the paper's two classic scenes at
 f = 25 over 9 realizations (seeds 1-9), as the paper measured them: the
 inlet force averaged over the realizations at equal phi before the fit;
-the same from the FEM (3 seeds each, about 8 minutes a run); the elastic
-classic scene at f = 50 (3 seeds, about 4 minutes a run).
+the same from the FEM (3 seeds each) with each wall-friction law
+(FEM/Friction law = regularised and = spring, the default: 6-8 minutes a
+run, the elastic scene under the spring law about 20); the elastic classic
+scene at f = 50 (3 seeds, about 4 minutes a run).
 Each scene is prm/classic.prm with
 
 - "Fig. 5" (elastoplastic classic): Yield curvature 0.08, Hardening
