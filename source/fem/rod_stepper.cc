@@ -50,11 +50,7 @@ namespace wirefem::fem
       if (static_cast<int>(i) < 3 * first_free || static_cast<int>(i) >= 3 * last_free)
         e.residual[i] += mass[i] * a1[i];
     history.assign(1, 0.0);
-    // The forces were taken at u_n: the springs continue from there.
-    const dealii::Vector<double> from(u);
     commit(step, first, last, u1, v1, a1, e, first_free, last_free);
-    if (wall_spring)
-      note_spring_positions(from);
   }
 
   void RodModel::Impl::predict(const double step, const int first, const int last, StepState &x) const
@@ -345,8 +341,9 @@ namespace wirefem::fem
 
     if (wall_spring && !e.wall_history.empty())
       {
+        // The springs continue from where e was taken (explicit: u_n).
         wall_springs = e.wall_history;
-        note_spring_positions(u1);
+        note_spring_positions(explicit_mode ? u : u1);
       }
     u = u1;
     v = v1;
