@@ -18,7 +18,7 @@ import csv
 import json
 import os
 import statistics
-import subprocess
+import sys
 
 import matplotlib
 
@@ -26,6 +26,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "validation"))
+import study  # noqa: E402
 VARIANTS = {
     "chain": ["Model=discrete"],
     "fem_regularised": ["Model=fem", "FEM/Friction law=regularised"],
@@ -34,22 +36,11 @@ VARIANTS = {
 
 
 def run(wirefem, out, sets):
-    """One run into OUT with the keys SETS; a finished one is reused."""
-    summary = os.path.join(out, "summary.json")
-    if os.path.exists(summary):
-        with open(summary) as f:
-            done = json.load(f)
-        if not done.get("interrupted", False):
-            return done
-    cmd = [wirefem, os.path.join(ROOT, "prm", "classic.prm"), "--replace", "--set", f"Output/Directory={out}",
-           "--set", "Output/Progress=off", "--set", "Output/VTU interval=0",
-           "--set", "Wire/Plasticity/Enabled=false"]
-    for s in sets:
-        cmd += ["--set", s]
-    with open(out + ".log", "w") as log:
-        subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, check=False)
-    with open(summary) as f:
-        return json.load(f)
+    """One run into OUT with the keys SETS; a finished one is reused, an
+    interrupted one resumed."""
+    base = ["Output/Progress=off", "Output/VTU interval=0", "Wire/Plasticity/Enabled=false"]
+    return study.run(wirefem, os.path.join(ROOT, "prm", "classic.prm"), base + sets, out, reuse=True,
+                     log=out + ".log")
 
 
 def series(out):

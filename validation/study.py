@@ -27,17 +27,33 @@ ORDER_SLACK = 0.2
 FLOOR = 1e-9
 
 
-def run(wirefem, prm, sets, out, reuse=False):
+def finished(out):
+    """Whether out holds a run that ended (summary.json, not interrupted)."""
+    try:
+        with open(os.path.join(out, "summary.json")) as f:
+            return not json.load(f).get("interrupted", False)
+    except (OSError, ValueError):
+        return False
+
+
+def run(wirefem, prm, sets, out, reuse=False, log=None):
     """Runs wirefem on prm with the overrides into out and returns its
-    summary; with reuse, a run whose out already holds a summary.json is
-    taken as it is (to redo an analysis without running again)."""
-    summary = os.path.join(out, "summary.json")
-    if not (reuse and os.path.exists(summary)):
-        cmd = [wirefem, prm, "--replace", "--set", f"Output/Directory={out}"]
+    summary. With reuse, a finished run in out is taken as it is (to redo
+    an analysis, or to run a study in pieces) and an interrupted one with
+    its checkpoint is resumed. Without log, the output is dropped and a
+    non-zero exit status raises; with it, the output goes to that file and
+    a run that ends early (its summary says why) is returned."""
+    if not (reuse and finished(out)):
+        again = "--resume" if reuse and os.path.exists(os.path.join(out, "checkpoint.bin")) else "--replace"
+        cmd = [wirefem, prm, again, "--set", f"Output/Directory={out}"]
         for s in sets:
             cmd += ["--set", s]
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-    with open(summary) as f:
+        if log is None:
+            subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        else:
+            with open(log, "w") as f:
+                subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, check=False)
+    with open(os.path.join(out, "summary.json")) as f:
         return json.load(f)
 
 

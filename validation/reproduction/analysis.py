@@ -5,9 +5,14 @@ import json
 import math
 import os
 import statistics
+import sys
 
 import numpy as np
 from scipy.optimize import curve_fit
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import phase  # noqa: E402
+from study import finished  # noqa: E402
 
 # The scenes, their overrides of prm/classic.prm and the paper's values.
 SCENES = {
@@ -24,6 +29,23 @@ SCENES = {
         "beta": (-2.05, 0.02),
         "gamma": (1.75, 0.03),
     },
+    "classic_paper": {
+        "title": "classic at the paper's Fig. 1 values (kappa_theta 0.04, s 0.08, mu_st 5)",
+        "sets": [],
+        "gamma": (1.75, 0.03),
+    },
+    "plastic": {
+        "title": "plastic (Fig. 1: kappa_theta 0.02, s 0.04, mu_st 5)",
+        "prm": "plastic.prm",
+        "sets": [],
+        "gamma": (1.85, 0.04),
+    },
+    "spiral": {
+        "title": "spiral (Fig. 1: elastic, mu_st 0)",
+        "prm": "spiral.prm",
+        "sets": ["Injection/Maximum packing density=0.95"],
+        "spiral": True,
+    },
 }
 GRID = 0.001  # phi spacing of the averaged force
 # The studies: a scene with a model, cavity radius and seeds, and keys of
@@ -31,6 +53,7 @@ GRID = 0.001  # phi spacing of the averaged force
 # OUTDIR/<study>_s<seed>.
 REGULARISED = {"sets": ["FEM/Friction law=regularised"], "label": "fem, FEM/Friction law = regularised"}
 SPRING = {"sets": ["FEM/Friction law=spring"], "label": "fem, FEM/Friction law = spring"}
+SLOW = {"sets": ["Injection/Speed=0.01"], "label": "discrete, Injection/Speed = 0.01"}
 STUDIES = {
     "fig5": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
     "elastic": {"scene": "elastic", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
@@ -39,27 +62,27 @@ STUDIES = {
     "fig5_fem_spring": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **SPRING},
     "elastic_fem_spring": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4), **SPRING},
     "elastic_f50": {"scene": "elastic", "model": "discrete", "radius": 50, "seeds": range(1, 4)},
+    "classic_f50": {"scene": "classic_paper", "model": "discrete", "radius": 50, "seeds": range(1, 4)},
+    "plastic_f100": {"scene": "plastic", "model": "discrete", "radius": 100, "seeds": range(1, 2)},
+    "spiral": {"scene": "spiral", "model": "discrete", "radius": 25, "seeds": range(1, 4)},
+    # The quasi-static limit: 30 times slower than the shipped 0.3 (at f 25
+    # prm/classic.prm jams at 0.416 +- 0.007 at 0.01, 0.409 +- 0.011 at
+    # 0.003, 0.506 +- 0.025 at 0.3).
+    "fig5_slow": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 4), **SLOW},
 }
 
 
-def finished(out):
-    """Whether OUTDIR/<run> holds a run that ended (not an interrupted one)."""
-    try:
-        with open(os.path.join(out, "summary.json")) as f:
-            return not json.load(f).get("interrupted", False)
-    except (OSError, ValueError):
-        return False
-
-
 def read_run(out):
+    """(summary, phi, force, loops) of a run directory."""
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
-    phi, force = [], []
+    phi, force, loops = [], [], []
     with open(os.path.join(out, "series.csv")) as f:
         for row in csv.DictReader(f):
             phi.append(float(row["phi"]))
             force.append(float(row["force"]))
-    return summary, np.array(phi), np.array(force)
+            loops.append(int(row["loops"]))
+    return summary, np.array(phi), np.array(force), np.array(loops)
 
 
 def mean_error(xs):
@@ -74,7 +97,7 @@ def average_force(runs, phi_end):
     """The force of every realization at equal phi (linear interpolation on
     a grid of GRID), averaged, up to phi_end."""
     grid = np.arange(0.05, phi_end, GRID)
-    curves = [np.interp(grid, phi, force) for _, phi, force in runs]
+    curves = [np.interp(grid, phi, force) for _, phi, force, _ in runs]
     return grid, np.mean(curves, axis=0)
 
 
@@ -114,22 +137,34 @@ def study_results(outdir, study):
         out = os.path.join(outdir, f"{study}_s{seed}")
         if finished(out):
             runs.append(read_run(out))
-    s = SCENES[st["scene"]]
     r = {"runs": len(runs), "scene": st["scene"], "study": study, "model": st.get("label", st["model"]),
          "radius": st["radius"],
          "seeds": st["seeds"]}
     if not runs:
         return r
-    finals = [summary["phi_final"] for summary, _, _ in runs]
-    r["jammed"] = sum(summary["jammed"] for summary, _, _ in runs)
-    r["failed"] = sum(summary["failed"] for summary, _, _ in runs)
+    summaries = [run[0] for run in runs]
+    finals = [summary["phi_final"] for summary in summaries]
+    r["jammed"] = sum(summary["jammed"] for summary in summaries)
+    r["failed"] = sum(summary["failed"] for summary in summaries)
     r["phi_final"] = mean_error(finals)
-    r["gamma"] = mean_error([summary.get("gamma") for summary, _, _ in runs])
-    r["single_beta"] = sorted(summary.get("beta") for summary, _, _ in runs if summary.get("beta") is not None)
-    r["loops"] = mean_error([summary["loops"] for summary, _, _ in runs])
-    r["morphology"] = sorted({summary["morphology"] for summary, _, _ in runs})
-    r["versions"] = sorted({summary["version"] for summary, _, _ in runs})
-    end = min(finals)
+    r["gamma"] = mean_error([summary.get("gamma") for summary in summaries])
+    r["single_beta"] = sorted(summary.get("beta") for summary in summaries if summary.get("beta") is not None)
+    r["loops"] = mean_error([summary["loops"] for summary in summaries])
+    r["morphology"] = sorted({summary["morphology"] for summary in summaries})
+    r["versions"] = sorted({summary["version"] for summary in summaries})
+    r["force_final"] = [float(force[-1]) for _, _, force, _ in runs]
+    # From which phi on the loop count no longer changes, and its largest value.
+    r["loops_settled"] = [float(phi[np.flatnonzero(loops != loops[-1])[-1] + 1]) if np.any(loops != loops[-1])
+                          else float(phi[0]) for _, phi, _, loops in runs]
+    r["loops_max"] = max(int(loops.max()) for _, _, _, loops in runs)
+    if "phi_c" in SCENES[st["scene"]]:
+        force_fits(r, runs, SCENES[st["scene"]]["phi_c"][0])
+    return r
+
+
+def force_fits(r, runs, paper_c):
+    """The realization-averaged force and its fits, into r."""
+    end = min(r_[0]["phi_final"] for r_ in runs)
     grid, force = average_force(runs, end)
     r["curve"] = (grid, force)
     r["window_end"] = end
@@ -137,11 +172,9 @@ def study_results(outdir, study):
     for start in (0.4, 0.5, 0.6):
         w = grid >= start * end
         r["fits"][start] = fit_power(grid[w], force[w])
-    paper_c = s["phi_c"][0]
     w = (grid >= 0.5 * end) & (grid <= paper_c - 0.005)
     r["fixed"] = fit_power(grid[w], force[w], phi_c=paper_c)
     r["fixed_window"] = (0.5 * end, min(end, paper_c - 0.005))
-    return r
 
 
 def plot(results, filename):
@@ -166,63 +199,118 @@ def plot(results, filename):
                         label=f"fit, {label}: beta {beta:.2f}, phi_c {phi_c:.3f}")
         ax.set_xlabel("phi")
         ax.set_ylabel("inlet force (mean over realizations)")
-        ax.set_title(SCENES[r["scene"]]["title"], fontsize=9)
+        ax.set_title(SCENES[r["scene"]]["title"] + ("" if r["model"] == "discrete" else f", {r['model']}"),
+                     fontsize=9)
         ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(filename, dpi=120)
 
 
-def report(outdir):
-    results = [study_results(outdir, study) for study in STUDIES]
-    plot([r for r in results if r["study"] in ("fig5", "elastic")], os.path.join(outdir, "force_average.png"))
-    lines = ["# The paper's numbers beside this code's", "",
-             "Generated by `validation/reproduction/run.py WIREFEM OUTDIR`: `prm/classic.prm` at the cavity "
-             "radius f of each row with the scene's keys; the model and the seeds are in each row. Errors are "
-             "standard errors over the realizations (phi at jamming, gamma) or of the fit (beta).", "",
-             "| quantity | paper | this code | model, f, realizations | how |", "|---|---|---|---|---|"]
-    for r in results:
-        s = SCENES[r["scene"]]
-        where = f"{r['model']}, f {r['radius']}, seeds {min(r['seeds'])}-{max(r['seeds'])}"
-        if r["runs"] == 0:
-            lines.append(f"| {s['title']} | | no runs yet | {where} | |")
-            continue
-        if r["runs"] < len(r["seeds"]):
-            where += f" ({r['runs']} finished)"
-        m, e, n = r["phi_final"]
-        lines.append(f"| phi at jamming, {s['title']} | {s['phi_c'][0]} +- {s['phi_c'][1]} | {m:.3f} +- {e:.3f} "
-                     f"({r['jammed']} of {r['runs']} jammed, {r['failed']} failed; {', '.join(r['morphology'])}; "
-                     f"{r['loops'][0]:.1f} loops) | {where} | mean over realizations |")
-        b, be, c, ce, _ = r["fits"][0.5]
-        lines.append(f"| beta, same | {s['beta'][0]} +- {s['beta'][1]} | {b:.2f} +- {be:.2f} (phi_c {c:.3f} "
-                     f"+- {ce:.3f}) | {where} | force averaged at equal phi, fitted on phi {0.5 * r['window_end']:.3f}-"
-                     f"{r['window_end']:.3f} (half of the earliest jamming to it) |")
-        fb, fbe, _, _, _ = r["fixed"]
-        lo, hi = r["fixed_window"]
-        lines.append(f"| beta, phi_c fixed at the paper's {s['phi_c'][0]} | {s['beta'][0]} | {fb:.2f} +- {fbe:.2f} "
-                     f"| {where} | same average, phi {lo:.3f}-{hi:.3f} |")
-        others = ", ".join(f"{r['fits'][k][0]:.2f} from {k} x" for k in (0.4, 0.6))
-        lines.append(f"| beta, the window's start moved | | {others} the earliest jamming | {where} | same average |")
-        single = r["single_beta"]
-        if single:
-            lines.append(f"| beta of single runs | | median {statistics.median(single):.2f}, "
-                         f"{single[0]:.2f} to {single[-1]:.2f} | {where} | each run's own fit (summary.json) |")
-        if "gamma" in s:
-            gm, ge, gn = r["gamma"]
-            lines.append(f"| gamma, same | {s['gamma'][0]} +- {s['gamma'][1]} (f 50) | {gm:.2f} +- {ge:.2f} "
-                         f"| {where} | mean of single-run fits ({gn} runs) |")
-    lines += ["", "## Where this code and the paper differ", ""]
-    for r in results:
-        if r["runs"] == 0:
-            continue
-        s = SCENES[r["scene"]]
+def where(r):
+    w = f"{r['model']}, f {r['radius']}, seeds {min(r['seeds'])}-{max(r['seeds'])}"
+    if len(r["seeds"]) == 1:
+        w = f"{r['model']}, f {r['radius']}, seed {r['seeds'][0]}"
+    if 0 < r["runs"] < len(r["seeds"]):
+        w += f" ({r['runs']} finished)"
+    return w
+
+
+def force_rows(r, s):
+    """phi at jamming and beta: the realization-averaged force's fits."""
+    w = where(r)
+    m, e, _ = r["phi_final"]
+    rows = [f"| phi at jamming, {s['title']} | {s['phi_c'][0]} +- {s['phi_c'][1]} | {m:.3f} +- {e:.3f} "
+            f"({r['jammed']} of {r['runs']} jammed, {r['failed']} failed; {', '.join(r['morphology'])}; "
+            f"{r['loops'][0]:.1f} loops) | {w} | mean over realizations |"]
+    b, be, c, ce, _ = r["fits"][0.5]
+    rows.append(f"| beta, same | {s['beta'][0]} +- {s['beta'][1]} | {b:.2f} +- {be:.2f} (phi_c {c:.3f} +- {ce:.3f}) "
+                f"| {w} | force averaged at equal phi, fitted on phi {0.5 * r['window_end']:.3f}-"
+                f"{r['window_end']:.3f} (half of the earliest jamming to it) |")
+    fb, fbe, _, _, _ = r["fixed"]
+    lo, hi = r["fixed_window"]
+    rows.append(f"| beta, phi_c fixed at the paper's {s['phi_c'][0]} | {s['beta'][0]} | {fb:.2f} +- {fbe:.2f} "
+                f"| {w} | same average, phi {lo:.3f}-{hi:.3f} |")
+    others = ", ".join(f"{r['fits'][k][0]:.2f} from {k} x" for k in (0.4, 0.6))
+    rows.append(f"| beta, the window's start moved | | {others} the earliest jamming | {w} | same average |")
+    single = r["single_beta"]
+    if single:
+        rows.append(f"| beta of single runs | | median {statistics.median(single):.2f}, "
+                    f"{single[0]:.2f} to {single[-1]:.2f} | {w} | each run's own fit (summary.json) |")
+    return rows
+
+
+def gamma_row(r, s):
+    gm, ge, gn = r["gamma"]
+    m, e, _ = r["phi_final"]
+    ref = "f 50" if s["gamma"][0] == 1.75 else "f 100"
+    name = "gamma, same" if "phi_c" in s else f"gamma, {s['title']}"
+    end = "" if "phi_c" in s else (f" (ended at phi {m:.3f} +- {e:.3f}, {r['jammed']} of {r['runs']} jammed, "
+                                   f"{r['failed']} failed; {', '.join(r['morphology'])}; {r['loops'][0]:.0f} loops)")
+    return [f"| {name} | {s['gamma'][0]} +- {s['gamma'][1]} ({ref}) | {gm:.2f} +- {ge:.2f}{end} | {where(r)} "
+            f"| mean of single-run fits ({gn} runs) |"]
+
+
+def spiral_rows(r, s):
+    m, _, _ = r["phi_final"]
+    forces = ", ".join(f"{x:.1f}" for x in r["force_final"])
+    settled = max(r["loops_settled"])
+    return [f"| loops, {s['title']} | 2 (gamma 0 up to phi 1) | {r['loops'][0]:.0f} at the end; the count stays "
+            f"fixed from phi {settled:.2f} on, at most {r['loops_max']} along the runs; "
+            f"{', '.join(r['morphology'])} | {where(r)} | series.csv of each run |",
+            f"| phi_c, same | about 1 | {r['jammed']} of {r['runs']} jammed; the runs stop at phi {m:.2f} "
+            f"(Injection/Maximum packing density) with inlet forces {forces} (jamming: 50) | {where(r)} "
+            "| summary.json |"]
+
+
+def differ_lines(r, s):
+    """How far each row with a paper value lies from it."""
+    lines = []
+    head = f"- {s['title']}, {r['model']} at f {r['radius']}:"
+    if "phi_c" in s:
         m, e, _ = r["phi_final"]
         pc, pe = s["phi_c"]
         b, be = r["fits"][0.5][:2]
         pb, pbe = s["beta"]
-        lines.append(f"- {s['title']}, {r['model']} at f {r['radius']}: phi at jamming {m - pc:+.3f} from the paper's "
-                     f"({abs(m - pc) / math.hypot(e, pe):.1f} combined standard errors); beta {b - pb:+.2f} from it "
-                     f"({abs(b - pb) / math.hypot(be, pbe):.0f} errors of the fit, which do not hold the window's "
-                     "choice).")
+        lines.append(f"{head} phi at jamming {m - pc:+.3f} from the paper's ({abs(m - pc) / math.hypot(e, pe):.1f} "
+                     f"combined standard errors); beta {b - pb:+.2f} from it ({abs(b - pb) / math.hypot(be, pbe):.0f} "
+                     "errors of the fit, which do not hold the window's choice).")
+    elif "gamma" in s:
+        gm, ge, gn = r["gamma"]
+        pg, pge = s["gamma"]
+        err = math.hypot(ge, pge) if math.isfinite(ge) else pge
+        lines.append(f"{head} gamma {gm - pg:+.2f} from the paper's ({abs(gm - pg) / err:.1f} combined standard "
+                     f"errors{'' if gn > 1 else ', the paper error only: one run'}); ended "
+                     f"{', '.join(r['morphology'])}.")
+    return lines
+
+
+def report(outdir):
+    results = [study_results(outdir, study) for study in STUDIES]
+    plot([r for r in results if r["study"] in ("fig5", "elastic", "fig5_slow") and "curve" in r],
+         os.path.join(outdir, "force_average.png"))
+    lines = ["# The paper's numbers beside this code's", "",
+             "Generated by `validation/reproduction/run.py WIREFEM OUTDIR`: the scene file of each row "
+             "(`prm/classic.prm` unless named) at the cavity radius f of the row with the scene's keys; the "
+             "model and the seeds are in each row. Errors are standard errors over the realizations (phi at "
+             "jamming, gamma) or of the fit (beta).", "",
+             "| quantity | paper | this code | model, f, realizations | how |", "|---|---|---|---|---|"]
+    for r in results:
+        s = SCENES[r["scene"]]
+        if r["runs"] == 0:
+            lines.append(f"| {s['title']} | | no runs yet | {where(r)} | |")
+            continue
+        if "phi_c" in s:
+            lines += force_rows(r, s)
+        if "gamma" in s:
+            lines += gamma_row(r, s)
+        if s.get("spiral"):
+            lines += spiral_rows(r, s)
+    lines += phase.section(outdir)
+    lines += ["", "## Where this code and the paper differ", ""]
+    for r in results:
+        if r["runs"]:
+            lines += differ_lines(r, SCENES[r["scene"]])
+    lines += phase.differences(outdir)
     lines += ["",
               "What this code's inlet force does near jamming: the jamming criterion (the inlet force, averaged "
               "over 1 d of injection, above 50) ends each run when the force reaches 50, so the averaged force "
@@ -237,7 +325,7 @@ def report(outdir):
               "`docs/notes/2026-12-05-fem-friction-law.md`."]
     versions = sorted({v for r in results for v in r.get("versions", [])})
     lines += ["", f"Runs made by wirefem {', '.join(versions)}.", "",
-              "The inlet force averaged over the 9 discrete realizations at f = 25, and its fits:", "",
+              "The inlet force averaged over the discrete realizations at f = 25, and its fits:", "",
               "![force](force_average.png)", ""]
     with open(os.path.join(outdir, "report.md"), "w") as f:
         f.write("\n".join(lines))

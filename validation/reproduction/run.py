@@ -5,14 +5,26 @@ report with figures.
 
     validation/reproduction/run.py WIREFEM OUTDIR [--jobs N]
 
-Done so far: phi_c, beta and gamma of the paper's two classic scenes at
-f = 25 over 9 realizations (seeds 1-9), as the paper measured them: the
-inlet force averaged over the realizations at equal phi before the fit;
-the same from the FEM (3 seeds each) with each wall-friction law
-(FEM/Friction law = regularised and = spring, the default: 6-8 minutes a
-run, the elastic scene under the spring law about 20); the elastic classic
-scene at f = 50 (3 seeds, about 4 minutes a run).
-Each scene is prm/classic.prm with
+The studies (analysis.STUDIES; run directories OUTDIR/<study>_s<seed>):
+
+- phi_c, beta and gamma of the paper's two classic scenes at f = 25 over
+  9 realizations (seeds 1-9), as the paper measured them: the inlet force
+  averaged over the realizations at equal phi before the fit; the same
+  from the FEM (3 seeds each) with each wall-friction law (FEM/Friction
+  law = regularised and = spring, the default: 6-8 minutes a run, the
+  elastic scene under the spring law about 20); the elastic classic scene
+  at f = 50 (3 seeds, about 4 minutes a run);
+- the Fig. 5 scene in the quasi-static limit (Injection/Speed = 0.01,
+  3 seeds, about 25 minutes a run);
+- gamma of prm/classic.prm at f = 50 (3 seeds) and of prm/plastic.prm at
+  f = 100 (one run, about 3 hours);
+- the spiral (prm/spiral.prm at f = 25, 3 seeds, run to phi = 0.95);
+- the phase diagram at f = 50 (prm/phase_diagram_f50.prm, 147 runs, about
+  8 core-hours; with --jobs N > 1 it runs under mpirun -np N) into
+  OUTDIR/output/phase_diagram_f50, checked by phase.py.
+
+Each scene is the prm file named in analysis.SCENES (prm/classic.prm
+unless named) with
 
 - "Fig. 5" (elastoplastic classic): Yield curvature 0.08, Hardening
   slope 0.05 (kappa_theta 0.08, s 0.05, mu_st 5);
@@ -25,7 +37,7 @@ force over phi from half of the earliest jamming to the earliest jamming
 window) and with phi_c fixed at the paper's value (the window then ends
 0.005 below it); the window's start moved to 0.4 and 0.6 of the earliest
 jamming shows how beta depends on it. OUTDIR/report.md and
-OUTDIR/force_average.png are the report.
+OUTDIR/force_average.png and OUTDIR/phase_f50.png are the report.
 """
 import argparse
 import os
@@ -36,29 +48,35 @@ from concurrent.futures import ThreadPoolExecutor
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.dirname(HERE))
 import analysis  # noqa: E402
+import phase  # noqa: E402
+import study  # noqa: E402
 
 BASE = ["Output/VTU interval=0", "Output/Progress=off"]
 
 
-def run_case(wirefem, outdir, study, seed):
-    """One realization into OUTDIR/<study>_s<seed>; a finished one is kept."""
-    st = analysis.STUDIES[study]
-    out = os.path.join(outdir, f"{study}_s{seed}")
-    if analysis.finished(out):
-        return out
-    # An interrupted run (its checkpoint kept) is resumed, anything else
-    # started over.
-    again = "--resume" if os.path.exists(os.path.join(out, "checkpoint.bin")) else "--replace"
-    cmd = [wirefem, os.path.join(ROOT, "prm", "classic.prm"), again, "--set", f"Output/Directory={out}",
-           "--set", f"Injection/Seed={seed}"]
-    sets = (BASE + [f"Cavity/Radius={st['radius']}", f"Model={st['model']}"] + analysis.SCENES[st["scene"]]["sets"] +
-            st.get("sets", []))
-    for s in sets:
-        cmd += ["--set", s]
-    with open(out + ".log", "w") as log:
-        subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, check=False)
+def run_case(wirefem, outdir, name, seed):
+    """One realization into OUTDIR/<name>_s<seed>; a finished one is kept,
+    an interrupted one resumed."""
+    st = analysis.STUDIES[name]
+    out = os.path.join(outdir, f"{name}_s{seed}")
+    scene = analysis.SCENES[st["scene"]]
+    sets = (BASE + [f"Cavity/Radius={st['radius']}", f"Model={st['model']}", f"Injection/Seed={seed}"] +
+            scene["sets"] + st.get("sets", []))
+    study.run(wirefem, os.path.join(ROOT, "prm", scene.get("prm", "classic.prm")), sets, out, reuse=True,
+              log=out + ".log")
     return out
+
+
+def run_sweep(wirefem, outdir, jobs):
+    """The phase diagram at f = 50 (OUTDIR/output/phase_diagram_f50; the
+    sweep skips finished cases and resumes interrupted ones)."""
+    cmd = [wirefem, "sweep", os.path.join(ROOT, "prm", phase.SWEEP_PRM)]
+    if jobs > 1:
+        cmd = ["mpirun", "-np", str(jobs)] + cmd
+    with open(os.path.join(outdir, "phase_f50.log"), "a") as log:
+        subprocess.run(cmd, cwd=outdir, stdout=log, stderr=subprocess.STDOUT, check=False)
 
 
 def main():
@@ -66,15 +84,19 @@ def main():
     parser.add_argument("wirefem")
     parser.add_argument("outdir")
     parser.add_argument("--jobs", type=int, default=1)
-    parser.add_argument("--only", nargs="*", choices=list(analysis.STUDIES), help="run only these studies "
+    parser.add_argument("--only", nargs="*", choices=list(analysis.STUDIES) + ["phase_f50"],
+                        help="run only these studies (phase_f50: the phase diagram) "
                         "(the report takes every finished run)")
     args = parser.parse_args()
     wirefem = os.path.abspath(args.wirefem)
     os.makedirs(args.outdir, exist_ok=True)
-    cases = [(study, seed) for study in (args.only or analysis.STUDIES) for seed in analysis.STUDIES[study]["seeds"]]
+    only = args.only or list(analysis.STUDIES) + ["phase_f50"]
+    cases = [(study, seed) for study in only if study != "phase_f50" for seed in analysis.STUDIES[study]["seeds"]]
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
         for out in pool.map(lambda c: run_case(wirefem, args.outdir, *c), cases):
             print("done:", out, flush=True)
+    if "phase_f50" in only:
+        run_sweep(wirefem, os.path.abspath(args.outdir), args.jobs)
     analysis.report(args.outdir)
     print(f"report: {os.path.join(args.outdir, 'report.md')}")
 

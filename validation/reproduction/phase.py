@@ -1,0 +1,216 @@
+"""The phase diagram at the paper's size (prm/phase_diagram_f50.prm, run by
+run.py into OUTDIR/output/phase_diagram_f50): the majority phase of each
+cell from its runs' summaries (so a sweep still under way is read too), the
+paper's three features checked, and the factor on kappa_theta that maps the
+smallest classic kappa_theta onto the paper's."""
+import collections
+import json
+import os
+import re
+
+SWEEP_PRM = "phase_diagram_f50.prm"
+SWEEP_DIR = os.path.join("output", "phase_diagram_f50")
+REALIZATIONS = 3
+PAPER_CLASSIC_KAPPA = 0.027  # the paper's smallest kappa_theta of the classic phase
+REENTRANT_MU = (0.2, 0.35)  # the paper's re-entrance: plastic, classic, plastic with growing kappa_theta
+CASE = re.compile(r"kappa([0-9.]+)_mu([0-9.]+)_seed(\d+)$")
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+COLOURS = {"spiral": "tab:blue", "classic": "tab:green", "plastic": "tab:red"}
+
+
+def read_cells(sweep_dir):
+    """{(kappa, mu): Counter of the morphologies of its finished, unfailed
+    runs, plus the keys 'finished' and 'failed'}."""
+    cells = collections.defaultdict(collections.Counter)
+    if not os.path.isdir(sweep_dir):
+        return cells
+    for name in os.listdir(sweep_dir):
+        m = CASE.match(name)
+        if not m:
+            continue
+        cell = cells[(float(m.group(1)), float(m.group(2)))]
+        try:
+            with open(os.path.join(sweep_dir, name, "summary.json")) as f:
+                summary = json.load(f)
+        except (OSError, ValueError):
+            continue
+        if summary.get("interrupted", False):
+            continue
+        cell["finished"] += 1
+        if summary["failed"]:
+            cell["failed"] += 1
+        else:
+            cell[summary["morphology"]] += 1
+    return cells
+
+
+def majority(cell):
+    """The phase with most votes ('tie' if two share it, None if no votes)."""
+    votes = [(n, phase) for phase, n in cell.items() if phase in COLOURS]
+    if not votes:
+        return None
+    votes.sort(reverse=True)
+    return "tie" if len(votes) > 1 and votes[0][0] == votes[1][0] else votes[0][1]
+
+
+def grid():
+    """The sweep file's (yield curvatures, static coefficients), sorted."""
+    values = {}
+    with open(os.path.join(ROOT, "prm", SWEEP_PRM)) as f:
+        for line in f:
+            m = re.match(r"\s*set (Yield curvatures|Static coefficients)\s*=(.*)", line)
+            if m:
+                values[m.group(1)] = sorted(float(x) for x in m.group(2).split(","))
+    return values["Yield curvatures"], values["Static coefficients"]
+
+
+def features(cells):
+    """The paper's three features on the cells that have all their runs."""
+    kappas, mus = grid()
+    done = {key: majority(c) for key, c in cells.items() if c["finished"] >= REALIZATIONS}
+    # 1. No spiral cell next to a classic one (neighbours along either axis).
+    borders = [(a, b) for a, b in neighbours(kappas, mus)
+               if {done.get(a), done.get(b)} == {"spiral", "classic"}]
+    # 2. Re-entrance: along kappa_theta at REENTRANT_MU, a classic stretch
+    # with a non-classic cell below and above it.
+    reentrant = {}
+    for m in mus:
+        if not REENTRANT_MU[0] < m < REENTRANT_MU[1]:
+            continue
+        column = [done.get((k, m)) for k in kappas]
+        if None in column:
+            reentrant[m] = (column, None)
+            continue
+        classic = [i for i, p in enumerate(column) if p == "classic"]
+        reentrant[m] = (column, bool(classic) and classic[0] > 0 and classic[-1] < len(column) - 1)
+    # 3. The smallest kappa_theta of a classic cell, and the one below it.
+    classic = sorted(k for (k, m), p in done.items() if p == "classic")
+    smallest = classic[0] if classic else None
+    below = max((k for k in kappas if smallest is not None and k < smallest), default=None)
+    return {"kappas": kappas, "mus": mus, "done": done, "borders": borders, "reentrant": reentrant,
+            "smallest": smallest, "below": below, "complete": len(done) == len(kappas) * len(mus) > 0}
+
+
+def neighbours(kappas, mus):
+    for i, k in enumerate(kappas):
+        for j, m in enumerate(mus):
+            if i + 1 < len(kappas):
+                yield (k, m), (kappas[i + 1], m)
+            if j + 1 < len(mus):
+                yield (k, m), (k, mus[j + 1])
+
+
+def plot(cells, f, filename):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for i, k in enumerate(f["kappas"]):
+        for j, m in enumerate(f["mus"]):
+            c = cells[(k, m)]
+            p = majority(c)
+            voters = sum(n for phase, n in c.items() if phase in COLOURS)
+            share = c[p] / voters if p in COLOURS else 0.0
+            done = c["finished"] >= REALIZATIONS
+            ax.add_patch(plt.Rectangle((j, i), 1, 1, color=COLOURS.get(p, "lightgrey"),
+                                       alpha=(0.3 + 0.7 * share) if done else 0.15))
+            text = ", ".join(f"{n}{phase[0]}" for phase, n in sorted(c.items()) if phase in COLOURS)
+            ax.text(j + 0.5, i + 0.5, (text or "-") + ("" if done else "\n(running)"), ha="center", va="center",
+                    fontsize=7)
+    ax.set_xlim(0, len(f["mus"]))
+    ax.set_ylim(0, len(f["kappas"]))
+    ax.set_xticks([j + 0.5 for j in range(len(f["mus"]))], [f"{m:g}" for m in f["mus"]])
+    ax.set_yticks([i + 0.5 for i in range(len(f["kappas"]))], [f"{k:g}" for k in f["kappas"]])
+    ax.set_xlabel("mu_st")
+    ax.set_ylabel("kappa_theta (1/d)")
+    ax.set_title("f = 50, s = 0.05: majority phase (s spiral, c classic, p plastic)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(filename, dpi=120)
+    plt.close(fig)
+
+
+def section(outdir):
+    """The report's phase-diagram rows and figure."""
+    sweep_dir = os.path.join(outdir, SWEEP_DIR)
+    cells = read_cells(sweep_dir)
+    where = f"discrete, f 50, {REALIZATIONS} seeds per cell (`prm/{SWEEP_PRM}`)"
+    if not cells:
+        return ["", "## Phase diagram (f = 50)", "", f"No runs yet ({where})."]
+    f = features(cells)
+    plot(cells, f, os.path.join(outdir, "phase_f50.png"))
+    total = len(f["kappas"]) * len(f["mus"])
+    state = "all cells" if f["complete"] else f"{len(f['done'])} of {total} cells complete, the rest running"
+    rows = ["", "## Phase diagram (f = 50)", "",
+            f"{where}: {state}. Failed runs (a numerical limit, energy balance above 1%) do not vote.", "",
+            "| feature | paper | this code |", "|---|---|---|"]
+    if f["borders"]:
+        pairs = "; ".join(f"(kappa {a[0]:g}, mu {a[1]:g}) next to (kappa {b[0]:g}, mu {b[1]:g})" for a, b in f["borders"])
+        rows.append(f"| no direct spiral-classic border | none | **{len(f['borders'])} found**: {pairs} |")
+    else:
+        rows.append("| no direct spiral-classic border | none | none among the complete cells |")
+    for m, (column, yes) in sorted(f["reentrant"].items()):
+        seq = " -> ".join(p or "running" for p in column)
+        verdict = "not yet complete" if yes is None else ("re-entrant" if yes else "**not re-entrant**")
+        rows.append(f"| re-entrance along kappa_theta at mu_st {m:g} | plastic -> classic -> plastic, 0.2 < mu_st "
+                    f"< 0.35 | {verdict}: {seq} (kappa {', '.join(f'{k:g}' for k in f['kappas'])}) |")
+    rows.append(f"| smallest kappa_theta of the classic phase | about {PAPER_CLASSIC_KAPPA} | "
+                + (f"{f['smallest']:g} (the grid point below, {f['below']:g}, is not classic)" if f["smallest"]
+                   else "no classic cell yet") + " |")
+    if f["smallest"] and f["below"]:
+        rows.append(f"| factor on kappa_theta mapping this diagram's classic edge onto the paper's | 1 | between "
+                    f"{f['below'] / PAPER_CLASSIC_KAPPA:.1f} and {f['smallest'] / PAPER_CLASSIC_KAPPA:.1f} (the "
+                    "grid's resolution) |")
+    rows += ["", "![phase diagram](phase_f50.png)"]
+    return rows
+
+
+def differences(outdir):
+    cells = read_cells(os.path.join(outdir, SWEEP_DIR))
+    if not cells:
+        return []
+    f = features(cells)
+    if not f["smallest"]:
+        return ["- phase diagram (f 50): no classic cell among the complete ones yet."]
+    return [f"- phase diagram (f 50): the classic phase starts at kappa_theta {f['smallest']:g}, "
+            f"{f['smallest'] / PAPER_CLASSIC_KAPPA:.0f} times the paper's {PAPER_CLASSIC_KAPPA}."]
+
+
+def self_test():
+    """features() on made-up diagrams over the sweep file's grid."""
+    kappas, mus = grid()
+
+    def diagram(phase_of):
+        cells = collections.defaultdict(collections.Counter)
+        for k in kappas:
+            for m in mus:
+                cells[(k, m)].update({"finished": REALIZATIONS, phase_of(k, m): REALIZATIONS})
+        return cells
+
+    def paper_like(k, m):
+        if m == 0:
+            return "spiral" if k > 1 else "plastic"
+        if m < 0.2 or k < PAPER_CLASSIC_KAPPA:
+            return "plastic"
+        return "plastic" if m < 0.35 and k > 0.1 else "classic"
+
+    f = features(diagram(paper_like))
+    assert f["complete"] and not f["borders"], f["borders"]
+    assert [yes for _, yes in f["reentrant"].values()] == [True], f["reentrant"]
+    assert (f["smallest"], f["below"]) == (0.027, 0.01), (f["smallest"], f["below"])
+    f = features(diagram(lambda k, m: "classic" if m > 0 and k > 1 else paper_like(k, m)))
+    assert f["borders"] == [((3.1416, 0.0), (3.1416, 0.1))], f["borders"]
+    assert [yes for _, yes in f["reentrant"].values()] == [False], f["reentrant"]
+    f = features(diagram(lambda k, m: "plastic"))
+    assert f["smallest"] is None and not f["borders"]
+    print("phase.py self-test: passed")
+
+
+if __name__ == "__main__":
+    import sys
+
+    if sys.argv[1:] == ["--self-test"]:
+        self_test()
+    else:
+        sys.exit("usage: phase.py --self-test (the study itself runs from run.py)")
