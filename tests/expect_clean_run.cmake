@@ -1,7 +1,7 @@
 # Runs EXE PRM --set SETTING [--set MODEL] and expects exit 0 and summary.json
 # "failed": false. MODEL (optional) is a second setting, such as Model=fem,
 # EXTRA (optional) a list of more; JAMMED=ON also asks for "jammed": true,
-# MIN_PHI=x for phi_final >= x.
+# MIN_PHI=x for phi_final >= x, MORPHOLOGY=name for that morphology at the end.
 set(extra)
 if(MODEL)
   set(extra --set ${MODEL})
@@ -32,6 +32,12 @@ if(MIN_PHI)
   string(JSON phi GET "${summary}" phi_final)
   if(phi LESS MIN_PHI)
     message(FATAL_ERROR "the run ended at phi ${phi}, below ${MIN_PHI}: ${summary}")
+  endif()
+endif()
+if(MORPHOLOGY)
+  string(JSON morphology GET "${summary}" morphology)
+  if(NOT morphology STREQUAL MORPHOLOGY)
+    message(FATAL_ERROR "the run ended ${morphology}, not ${MORPHOLOGY}: ${summary}")
   endif()
 endif()
 # The summary names the code that made it: the version `wirefem --version`

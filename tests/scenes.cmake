@@ -184,6 +184,14 @@ add_test(NAME scene.fem_elastic_f15_packs_as_the_chain
                  -DOUT=${SCENE_OUT}/fem_elastic_f15 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
 set_tests_properties(scene.fem_elastic_f15_packs_as_the_chain PROPERTIES LABELS stress TIMEOUT 1800)
 
+# prm/classic_cascades.prm, this model's classic morphology at f = 100,
+# ends classic (seeds 1-3 did; about 15 min).
+add_test(NAME scene.classic_cascades_is_classic
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic_cascades.prm
+                 -DSETTING=Injection/Seed=1 -DMORPHOLOGY=classic -DOUT=${SCENE_OUT}/classic_cascades
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+set_tests_properties(scene.classic_cascades_is_classic PROPERTIES LABELS stress TIMEOUT 3600)
+
 add_test(NAME scene.damaged_checkpoint_refused
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/damaged_checkpoint.sh ${WIREFEM_EXE} ${CMAKE_SOURCE_DIR}/prm/quick.prm
                  ${SCENE_OUT}/damaged_checkpoint)

@@ -117,8 +117,8 @@ def plot(cells, f, filename):
             ax.add_patch(plt.Rectangle((j, i), 1, 1, color=COLOURS.get(p, "lightgrey"),
                                        alpha=(0.3 + 0.7 * share) if done else 0.15))
             text = ", ".join(f"{n}{phase[0]}" for phase, n in sorted(c.items()) if phase in COLOURS)
-            ax.text(j + 0.5, i + 0.5, (text or "-") + ("" if done else "\n(running)"), ha="center", va="center",
-                    fontsize=7)
+            ax.text(j + 0.5, i + 0.5, (text or "-") + ("" if done else f"\n({c['finished']} of {REALIZATIONS} done)"),
+                    ha="center", va="center", fontsize=7)
     ax.set_xlim(0, len(f["mus"]))
     ax.set_ylim(0, len(f["kappas"]))
     ax.set_xticks([j + 0.5 for j in range(len(f["mus"]))], [f"{m:g}" for m in f["mus"]])
@@ -141,7 +141,7 @@ def section(outdir):
     f = features(cells)
     plot(cells, f, os.path.join(outdir, "phase_f50.png"))
     total = len(f["kappas"]) * len(f["mus"])
-    state = "all cells" if f["complete"] else f"{len(f['done'])} of {total} cells complete, the rest running"
+    state = "all cells" if f["complete"] else f"{len(f['done'])} of {total} cells complete, the rest to come"
     rows = ["", "## Phase diagram (f = 50)", "",
             f"{where}: {state}. Failed runs (a numerical limit, energy balance above 1%) do not vote.", "",
             "| feature | paper | this code |", "|---|---|---|"]
@@ -151,7 +151,7 @@ def section(outdir):
     else:
         rows.append("| no direct spiral-classic border | none | none among the complete cells |")
     for m, (column, yes) in sorted(f["reentrant"].items()):
-        seq = " -> ".join(p or "running" for p in column)
+        seq = " -> ".join(p or "to come" for p in column)
         verdict = "not yet complete" if yes is None else ("re-entrant" if yes else "**not re-entrant**")
         rows.append(f"| re-entrance along kappa_theta at mu_st {m:g} | plastic -> classic -> plastic, 0.2 < mu_st "
                     f"< 0.35 | {verdict}: {seq} (kappa {', '.join(f'{k:g}' for k in f['kappas'])}) |")
