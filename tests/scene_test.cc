@@ -175,6 +175,11 @@ namespace
           std::string::npos)
           << model;
     EXPECT_EQ(read_scene("", {"Cavity/Radius=4"}).cavity.radius, 4.0);
+    // The element of the model that runs, not of the other one.
+    EXPECT_NE(error_of("", {"Model=fem", "Cavity/Radius=25", "FEM/Element length=10"})
+                  .find("Cavity/Radius: r = 25 is less than 4 x FEM/Element length (10)"),
+              std::string::npos);
+    EXPECT_EQ(read_scene("", {"Cavity/Radius=25", "FEM/Element length=10"}).fem.element_length, 10.0);
   }
 
   TEST(Scene, BadInputIsOneLineThatATerminalShowsAsIs)

@@ -185,7 +185,7 @@ add_test(NAME scene.fem_elastic_f15_packs_as_the_chain
 set_tests_properties(scene.fem_elastic_f15_packs_as_the_chain PROPERTIES LABELS stress TIMEOUT 1800)
 
 # prm/classic_cascades.prm, this model's classic morphology at f = 100,
-# ends classic (seeds 1-3 did; about 15 min).
+# ends classic (seeds 1 and 3 do, 2 ends plastic; about 7 min).
 add_test(NAME scene.classic_cascades_is_classic
          COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic_cascades.prm
                  -DSETTING=Injection/Seed=1 -DMORPHOLOGY=classic -DOUT=${SCENE_OUT}/classic_cascades

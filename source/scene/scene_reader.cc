@@ -63,15 +63,19 @@ namespace wirefem::scene
             }
           return;
         }
-      check(ds.segment_length > 0 && ds.segment_length <= 0.25 * s.cavity.radius, w,
-            "Discrete/Segment length", "must be in (0, r/4]");
       if (s.setup == Setup::capstan)
-        return;
+        {
+          check(ds.segment_length > 0 && ds.segment_length <= 0.25 * s.cavity.radius, w,
+                "Discrete/Segment length", "must be in (0, r/4]");
+          return;
+        }
+      // Injection: the lengths' upper bound (r >= 4 x the element of the
+      // model that runs) is validate_cavity_size's.
+      check(ds.segment_length > 0, w, "Discrete/Segment length", "must be positive");
       const double n_segments = 2.0 * s.cavity.radius / ds.segment_length;
       check(std::abs(n_segments - std::round(n_segments)) < 1e-9 * n_segments, w, "Discrete/Segment length",
             "2 r / lambda_0 = " + std::to_string(n_segments) + " must be a whole number of segments");
-      check(s.fem.element_length > 0 && s.fem.element_length <= 0.25 * s.cavity.radius, w,
-            "FEM/Element length", "must be in (0, r/4]");
+      check(s.fem.element_length > 0, w, "FEM/Element length", "must be positive");
     }
 
     /// Values that each pass their section's checks but not together: what

@@ -73,10 +73,16 @@ def run_sweep(wirefem, outdir, jobs):
     """The phase diagram at f = 50 (OUTDIR/output/phase_diagram_f50; the
     sweep skips finished cases and resumes interrupted ones)."""
     cmd = [wirefem, "sweep", os.path.join(ROOT, "prm", phase.SWEEP_PRM)]
+    env = dict(os.environ)
     if jobs > 1:
         cmd = ["mpirun", "-np", str(jobs)] + cmd
-    with open(os.path.join(outdir, "phase_f50.log"), "a") as log:
-        subprocess.run(cmd, cwd=outdir, stdout=log, stderr=subprocess.STDOUT, check=False)
+        if os.geteuid() == 0:  # Open MPI refuses root without these
+            env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    log_name = os.path.join(outdir, "phase_f50.log")
+    with open(log_name, "a") as log:
+        rc = subprocess.run(cmd, cwd=outdir, env=env, stdout=log, stderr=subprocess.STDOUT, check=False).returncode
+    if rc != 0:
+        print(f"the phase-diagram sweep stopped with exit status {rc}: see {log_name}", flush=True)
 
 
 def main():
