@@ -15,7 +15,6 @@ OUTDIR/friction-law.png.
 """
 import argparse
 import csv
-import json
 import os
 import statistics
 import sys

@@ -28,7 +28,9 @@ FLOOR = 1e-9
 
 
 def finished(out):
-    """Whether out holds a run that ended (summary.json, not interrupted)."""
+    """Whether out holds a run that ended (summary.json, not interrupted;
+    only injection runs can be interrupted, so a summary without the key
+    is a finished one)."""
     try:
         with open(os.path.join(out, "summary.json")) as f:
             return not json.load(f).get("interrupted", False)
@@ -41,18 +43,32 @@ def run(wirefem, prm, sets, out, reuse=False, log=None):
     summary. With reuse, a finished run in out is taken as it is (to redo
     an analysis, or to run a study in pieces) and an interrupted one with
     its checkpoint is resumed. Without log, the output is dropped and a
-    non-zero exit status raises; with it, the output goes to that file and
-    a run that ends early (its summary says why) is returned."""
-    if not (reuse and finished(out)):
-        again = "--resume" if reuse and os.path.exists(os.path.join(out, "checkpoint.bin")) else "--replace"
+    non-zero exit status raises; with it, the output goes to that file
+    (appended to on a resume), a run that ended by a numerical limit (exit
+    3, its summary says why) is returned, and anything else that did not
+    finish (bad input, a refused resume, an interruption) raises."""
+    # The keys a run was made with, beside it: a run made with others is not
+    # reused or resumed but made again.
+    keys_file, keys = out + ".keys.json", [prm] + list(sets)
+    try:
+        with open(keys_file) as f:
+            same = json.load(f) == keys
+    except (OSError, ValueError):
+        same = not os.path.exists(keys_file)  # runs made before the record are taken as they are
+    if not (reuse and same and finished(out)):
+        again = "--resume" if reuse and same and os.path.exists(os.path.join(out, "checkpoint.bin")) else "--replace"
+        with open(keys_file, "w") as f:
+            json.dump(keys, f)
         cmd = [wirefem, prm, again, "--set", f"Output/Directory={out}"]
         for s in sets:
             cmd += ["--set", s]
         if log is None:
             subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
         else:
-            with open(log, "w") as f:
-                subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, check=False)
+            with open(log, "a" if again == "--resume" else "w") as f:
+                rc = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, check=False).returncode
+            if rc not in (0, 3) or not finished(out):
+                raise RuntimeError(f"{out}: wirefem stopped with exit status {rc} and no finished run; see {log}")
     with open(os.path.join(out, "summary.json")) as f:
         return json.load(f)
 

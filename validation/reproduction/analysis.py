@@ -43,7 +43,8 @@ SCENES = {
     "spiral": {
         "title": "spiral (Fig. 1: elastic, mu_st 0)",
         "prm": "spiral.prm",
-        "sets": ["Injection/Maximum packing density=0.95"],
+        "sets": ["Injection/Maximum packing density=1"],
+        "phi_max": 1,
         "spiral": True,
     },
 }
@@ -64,6 +65,8 @@ STUDIES = {
     "elastic_f50": {"scene": "elastic", "model": "discrete", "radius": 50, "seeds": range(1, 4)},
     "classic_f50": {"scene": "classic_paper", "model": "discrete", "radius": 50, "seeds": range(1, 4)},
     "plastic_f100": {"scene": "plastic", "model": "discrete", "radius": 100, "seeds": range(1, 2)},
+    # The spiral to phi = 1, where its wire fills the cavity (largest overlap
+    # 0.06 d, seed 1).
     "spiral": {"scene": "spiral", "model": "discrete", "radius": 25, "seeds": range(1, 4)},
     # The quasi-static limit: 30 times slower than the shipped 0.3 (at f 25
     # prm/classic.prm jams at 0.416 +- 0.007 at 0.01, 0.409 +- 0.011 at
@@ -144,10 +147,15 @@ def study_results(outdir, study):
     if not runs:
         return r
     summaries = [run[0] for run in runs]
-    finals = [summary["phi_final"] for summary in summaries]
+    scene = SCENES[st["scene"]]
+    # phi at jamming and the force's fits from the runs that jammed (not
+    # those that failed or stopped at the maximum density).
+    jammed = [run for run in runs if run[0]["jammed"] and not run[0]["failed"]]
     r["jammed"] = sum(summary["jammed"] for summary in summaries)
     r["failed"] = sum(summary["failed"] for summary in summaries)
-    r["phi_final"] = mean_error(finals)
+    r["phi_final"] = mean_error([run[0]["phi_final"] for run in (jammed if "phi_c" in scene else runs)])
+    r["loops_each"] = [summary["loops"] for summary in summaries]
+    r["phi_each"] = [summary["phi_final"] for summary in summaries]
     r["gamma"] = mean_error([summary.get("gamma") for summary in summaries])
     r["single_beta"] = sorted(summary.get("beta") for summary in summaries if summary.get("beta") is not None)
     r["loops"] = mean_error([summary["loops"] for summary in summaries])
@@ -158,8 +166,8 @@ def study_results(outdir, study):
     r["loops_settled"] = [float(phi[np.flatnonzero(loops != loops[-1])[-1] + 1]) if np.any(loops != loops[-1])
                           else float(phi[0]) for _, phi, _, loops in runs]
     r["loops_max"] = max(int(loops.max()) for _, _, _, loops in runs)
-    if "phi_c" in SCENES[st["scene"]]:
-        force_fits(r, runs, SCENES[st["scene"]]["phi_c"][0])
+    if "phi_c" in scene and jammed:
+        force_fits(r, jammed, scene["phi_c"][0])
     return r
 
 
@@ -184,6 +192,8 @@ def plot(results, filename):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    if not results:
+        return
     cols = min(len(results), 2)
     rows = (len(results) + cols - 1) // cols
     fig, axes = plt.subplots(rows, cols, figsize=(6 * cols, 4.5 * rows), squeeze=False)
@@ -209,6 +219,7 @@ def plot(results, filename):
         ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(filename, dpi=120)
+    plt.close(fig)
 
 
 def where(r):
@@ -223,6 +234,9 @@ def where(r):
 def force_rows(r, s):
     """phi at jamming and beta: the realization-averaged force's fits."""
     w = where(r)
+    if "fits" not in r:
+        return [f"| phi at jamming, {s['title']} | {s['phi_c'][0]} +- {s['phi_c'][1]} | none of {r['runs']} runs "
+                f"jammed ({r['failed']} failed) | {w} | |"]
     m, e, _ = r["phi_final"]
     rows = [f"| phi at jamming, {s['title']} | {s['phi_c'][0]} +- {s['phi_c'][1]} | {m:.3f} +- {e:.3f} "
             f"({r['jammed']} of {r['runs']} jammed, {r['failed']} failed; {', '.join(r['morphology'])}; "
@@ -256,14 +270,15 @@ def gamma_row(r, s):
 
 
 def spiral_rows(r, s):
-    m, _, _ = r["phi_final"]
+    phis = ", ".join(f"{x:.3f}" for x in r["phi_each"])
     forces = ", ".join(f"{x:.1f}" for x in r["force_final"])
     settled = max(r["loops_settled"])
-    return [f"| loops, {s['title']} | 2 (gamma 0 up to phi 1) | {r['loops'][0]:.0f} at the end; the count stays "
+    return [f"| loops, {s['title']} | 2 (gamma 0 up to phi 1) | {', '.join(map(str, r['loops_each']))} at the end; "
+            "the count stays "
             f"fixed from phi {settled:.2f} on, at most {r['loops_max']} along the runs; "
             f"{', '.join(r['morphology'])} | {where(r)} | series.csv of each run |",
-            f"| phi_c, same | about 1 | {r['jammed']} of {r['runs']} jammed; the runs stop at phi {m:.2f} "
-            f"(Injection/Maximum packing density) with inlet forces {forces} (jamming: 50) | {where(r)} "
+            f"| phi_c, same | about 1 | {r['jammed']} of {r['runs']} jammed; the runs end at phi {phis} "
+            f"(Injection/Maximum packing density {s['phi_max']}) with inlet forces {forces} (jamming: 50) | {where(r)} "
             "| summary.json |"]
 
 
@@ -271,15 +286,16 @@ def differ_lines(r, s):
     """How far each row with a paper value lies from it."""
     lines = []
     head = f"- {s['title']}, {r['model']} at f {r['radius']}:"
-    if "phi_c" in s:
+    if "phi_c" in s and "fits" in r:
         m, e, _ = r["phi_final"]
         pc, pe = s["phi_c"]
         b, be = r["fits"][0.5][:2]
         pb, pbe = s["beta"]
-        lines.append(f"{head} phi at jamming {m - pc:+.3f} from the paper's ({abs(m - pc) / math.hypot(e, pe):.1f} "
+        err = math.hypot(e, pe) if math.isfinite(e) else pe
+        lines.append(f"{head} phi at jamming {m - pc:+.3f} from the paper's ({abs(m - pc) / err:.1f} "
                      f"combined standard errors); beta {b - pb:+.2f} from it ({abs(b - pb) / math.hypot(be, pbe):.0f} "
                      "errors of the fit, which do not hold the window's choice).")
-    elif "gamma" in s:
+    elif "gamma" in s and r["gamma"][2] > 0:
         gm, ge, gn = r["gamma"]
         pg, pge = s["gamma"]
         err = math.hypot(ge, pge) if math.isfinite(ge) else pge

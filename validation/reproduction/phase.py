@@ -10,10 +10,9 @@ import re
 
 SWEEP_PRM = "phase_diagram_f50.prm"
 SWEEP_DIR = os.path.join("output", "phase_diagram_f50")
-REALIZATIONS = 3
 PAPER_CLASSIC_KAPPA = 0.027  # the paper's smallest kappa_theta of the classic phase
 REENTRANT_MU = (0.2, 0.35)  # the paper's re-entrance: plastic, classic, plastic with growing kappa_theta
-CASE = re.compile(r"kappa([0-9.]+)_mu([0-9.]+)_seed(\d+)$")
+CASE = re.compile(r"kappa([0-9.eE+-]+)_mu([0-9.eE+-]+)_seed(\d+)$")
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 COLOURS = {"spiral": "tab:blue", "classic": "tab:green", "plastic": "tab:red"}
 
@@ -45,50 +44,57 @@ def read_cells(sweep_dir):
 
 
 def majority(cell):
-    """The phase with most votes ('tie' if two share it, None if no votes)."""
+    """The phase with most votes ('tie' if two share it, 'failed' if every
+    finished run failed, None if none finished)."""
     votes = [(n, phase) for phase, n in cell.items() if phase in COLOURS]
     if not votes:
-        return None
+        return "failed" if cell["finished"] else None
     votes.sort(reverse=True)
     return "tie" if len(votes) > 1 and votes[0][0] == votes[1][0] else votes[0][1]
 
 
 def grid():
-    """The sweep file's (yield curvatures, static coefficients), sorted."""
+    """The sweep file's (yield curvatures, static coefficients, both
+    sorted, and realizations per cell)."""
     values = {}
     with open(os.path.join(ROOT, "prm", SWEEP_PRM)) as f:
         for line in f:
-            m = re.match(r"\s*set (Yield curvatures|Static coefficients)\s*=(.*)", line)
+            m = re.match(r"\s*set (Yield curvatures|Static coefficients|Realizations)\s*=(.*)", line)
             if m:
                 values[m.group(1)] = sorted(float(x) for x in m.group(2).split(","))
-    return values["Yield curvatures"], values["Static coefficients"]
+    return values["Yield curvatures"], values["Static coefficients"], int(values["Realizations"][0])
+
+
+def realizations():
+    return grid()[2]
 
 
 def features(cells):
     """The paper's three features on the cells that have all their runs."""
-    kappas, mus = grid()
-    done = {key: majority(c) for key, c in cells.items() if c["finished"] >= REALIZATIONS}
+    kappas, mus, n = grid()
+    done = {key: majority(c) for key, c in cells.items() if c["finished"] >= n}
     # 1. No spiral cell next to a classic one (neighbours along either axis).
-    borders = [(a, b) for a, b in neighbours(kappas, mus)
-               if {done.get(a), done.get(b)} == {"spiral", "classic"}]
-    # 2. Re-entrance: along kappa_theta at REENTRANT_MU, a classic stretch
-    # with a non-classic cell below and above it.
+    pairs = [(a, b) for a, b in neighbours(kappas, mus) if a in done and b in done]
+    borders = [(a, b) for a, b in pairs if {done[a], done[b]} == {"spiral", "classic"}]
+    # 2. Re-entrance: along kappa_theta at REENTRANT_MU, a plastic cell, a
+    # classic one above it and a plastic one above that.
     reentrant = {}
     for m in mus:
         if not REENTRANT_MU[0] < m < REENTRANT_MU[1]:
             continue
         column = [done.get((k, m)) for k in kappas]
-        if None in column:
-            reentrant[m] = (column, None)
-            continue
-        classic = [i for i, p in enumerate(column) if p == "classic"]
-        reentrant[m] = (column, bool(classic) and classic[0] > 0 and classic[-1] < len(column) - 1)
-    # 3. The smallest kappa_theta of a classic cell, and the one below it.
+        found = any(column[i] == "plastic" and column[j] == "classic" and "plastic" in column[j + 1:]
+                    for j in range(len(column)) for i in range(j))
+        reentrant[m] = (column, None if None in column and not found else found)
+    # 3. The smallest kappa_theta of a classic cell; final once every cell
+    # below it is complete.
     classic = sorted(k for (k, m), p in done.items() if p == "classic")
     smallest = classic[0] if classic else None
     below = max((k for k in kappas if smallest is not None and k < smallest), default=None)
-    return {"kappas": kappas, "mus": mus, "done": done, "borders": borders, "reentrant": reentrant,
-            "smallest": smallest, "below": below, "complete": len(done) == len(kappas) * len(mus) > 0}
+    settled = smallest is not None and all((k, m) in done for k in kappas if k < smallest for m in mus)
+    return {"kappas": kappas, "mus": mus, "realizations": n, "done": done, "pairs": len(pairs),
+            "borders": borders, "reentrant": reentrant, "smallest": smallest, "below": below,
+            "settled": settled, "complete": len(done) == len(kappas) * len(mus) > 0}
 
 
 def neighbours(kappas, mus):
@@ -113,11 +119,13 @@ def plot(cells, f, filename):
             p = majority(c)
             voters = sum(n for phase, n in c.items() if phase in COLOURS)
             share = c[p] / voters if p in COLOURS else 0.0
-            done = c["finished"] >= REALIZATIONS
+            done = c["finished"] >= f["realizations"]
             ax.add_patch(plt.Rectangle((j, i), 1, 1, color=COLOURS.get(p, "lightgrey"),
                                        alpha=(0.3 + 0.7 * share) if done else 0.15))
             text = ", ".join(f"{n}{phase[0]}" for phase, n in sorted(c.items()) if phase in COLOURS)
-            ax.text(j + 0.5, i + 0.5, (text or "-") + ("" if done else f"\n({c['finished']} of {REALIZATIONS} done)"),
+            if c["failed"]:
+                text += f"{', ' if text else ''}{c['failed']} failed"
+            ax.text(j + 0.5, i + 0.5, (text or "-") + ("" if done else f"\n({c['finished']} of {f['realizations']} done)"),
                     ha="center", va="center", fontsize=7)
     ax.set_xlim(0, len(f["mus"]))
     ax.set_ylim(0, len(f["kappas"]))
@@ -135,7 +143,7 @@ def section(outdir):
     """The report's phase-diagram rows and figure."""
     sweep_dir = os.path.join(outdir, SWEEP_DIR)
     cells = read_cells(sweep_dir)
-    where = f"discrete, f 50, {REALIZATIONS} seeds per cell (`prm/{SWEEP_PRM}`)"
+    where = f"discrete, f 50, {realizations()} seeds per cell (`prm/{SWEEP_PRM}`)"
     if not cells:
         return ["", "## Phase diagram (f = 50)", "", f"No runs yet ({where})."]
     f = features(cells)
@@ -148,19 +156,28 @@ def section(outdir):
     if f["borders"]:
         pairs = "; ".join(f"(kappa {a[0]:g}, mu {a[1]:g}) next to (kappa {b[0]:g}, mu {b[1]:g})" for a, b in f["borders"])
         rows.append(f"| no direct spiral-classic border | none | **{len(f['borders'])} found**: {pairs} |")
+    elif f["pairs"]:
+        rows.append(f"| no direct spiral-classic border | none | none among the {f['pairs']} neighbouring pairs of "
+                    "complete cells |")
     else:
-        rows.append("| no direct spiral-classic border | none | none among the complete cells |")
+        rows.append("| no direct spiral-classic border | none | not yet: no two neighbouring cells complete |")
     for m, (column, yes) in sorted(f["reentrant"].items()):
         seq = " -> ".join(p or "to come" for p in column)
         verdict = "not yet complete" if yes is None else ("re-entrant" if yes else "**not re-entrant**")
         rows.append(f"| re-entrance along kappa_theta at mu_st {m:g} | plastic -> classic -> plastic, 0.2 < mu_st "
                     f"< 0.35 | {verdict}: {seq} (kappa {', '.join(f'{k:g}' for k in f['kappas'])}) |")
-    rows.append(f"| smallest kappa_theta of the classic phase | about {PAPER_CLASSIC_KAPPA} | "
-                + (f"{f['smallest']:g} (the grid point below, {f['below']:g}, is not classic)" if f["smallest"]
-                   else "no classic cell yet") + " |")
-    if f["smallest"] and f["below"]:
+    if f["smallest"] is None:
+        smallest = "no classic cell yet"
+    elif f["below"] is None:
+        smallest = f"{f['smallest']:g}, the smallest on the grid"
+    else:
+        smallest = f"{f['smallest']:g} (the grid point below, {f['below']:g}, is not classic)"
+    if f["smallest"] is not None and not f["settled"]:
+        smallest += "; provisional: cells below it are still to come"
+    rows.append(f"| smallest kappa_theta of the classic phase | about {PAPER_CLASSIC_KAPPA} | {smallest} |")
+    if f["smallest"] is not None and f["below"] is not None:
         rows.append(f"| factor on kappa_theta mapping this diagram's classic edge onto the paper's | 1 | between "
-                    f"{f['below'] / PAPER_CLASSIC_KAPPA:.1f} and {f['smallest'] / PAPER_CLASSIC_KAPPA:.1f} (the "
+                    f"{f['below'] / PAPER_CLASSIC_KAPPA:.2g} and {f['smallest'] / PAPER_CLASSIC_KAPPA:.2g} (the "
                     "grid's resolution) |")
     rows += ["", "![phase diagram](phase_f50.png)"]
     return rows
@@ -171,21 +188,23 @@ def differences(outdir):
     if not cells:
         return []
     f = features(cells)
-    if not f["smallest"]:
+    if f["smallest"] is None:
         return ["- phase diagram (f 50): no classic cell among the complete ones yet."]
     return [f"- phase diagram (f 50): the classic phase starts at kappa_theta {f['smallest']:g}, "
-            f"{f['smallest'] / PAPER_CLASSIC_KAPPA:.0f} times the paper's {PAPER_CLASSIC_KAPPA}."]
+            f"{f['smallest'] / PAPER_CLASSIC_KAPPA:.2g} times the paper's {PAPER_CLASSIC_KAPPA}"
+            f"{'' if f['settled'] else ' (provisional)'}."]
 
 
 def self_test():
     """features() on made-up diagrams over the sweep file's grid."""
-    kappas, mus = grid()
+    kappas, mus, n = grid()
 
-    def diagram(phase_of):
+    def diagram(phase_of, missing=()):
         cells = collections.defaultdict(collections.Counter)
         for k in kappas:
             for m in mus:
-                cells[(k, m)].update({"finished": REALIZATIONS, phase_of(k, m): REALIZATIONS})
+                if (k, m) not in missing:
+                    cells[(k, m)].update({"finished": n, phase_of(k, m): n})
         return cells
 
     def paper_like(k, m):
@@ -196,12 +215,29 @@ def self_test():
         return "plastic" if m < 0.35 and k > 0.1 else "classic"
 
     f = features(diagram(paper_like))
-    assert f["complete"] and not f["borders"], f["borders"]
+    assert f["complete"] and not f["borders"] and f["pairs"] == 2 * len(kappas) * len(mus) - len(kappas) - len(mus)
     assert [yes for _, yes in f["reentrant"].values()] == [True], f["reentrant"]
-    assert (f["smallest"], f["below"]) == (0.027, 0.01), (f["smallest"], f["below"])
+    assert (f["smallest"], f["below"], f["settled"]) == (0.027, 0.01, True), f
+    # A classic cell next to a spiral one.
     f = features(diagram(lambda k, m: "classic" if m > 0 and k > 1 else paper_like(k, m)))
     assert f["borders"] == [((3.1416, 0.0), (3.1416, 0.1))], f["borders"]
+    # Classic from 0.027 up to the elastic end: no re-entrance.
+    f = features(diagram(lambda k, m: "classic" if m >= 0.2 and k > 0.02 else paper_like(k, m)))
     assert [yes for _, yes in f["reentrant"].values()] == [False], f["reentrant"]
+    # Classic from the smallest kappa on: no grid point below it.
+    f = features(diagram(lambda k, m: "classic" if m >= 0.2 else paper_like(k, m)))
+    assert (f["smallest"], f["below"]) == (0.01, None), f
+    # Spiral below the classic stretch is not the paper's re-entrance.
+    f = features(diagram(lambda k, m: "spiral" if m == 0.3 and k < 0.02 else paper_like(k, m)))
+    assert [yes for _, yes in f["reentrant"].values()] == [False], f["reentrant"]
+    # Cells still to come: nothing is decided from them.
+    f = features(diagram(paper_like, missing={(0.01, 0.3), (0.01, 0.45)}))
+    assert not f["complete"] and not f["settled"] and f["smallest"] == 0.027
+    assert [yes for _, yes in f["reentrant"].values()] == [None], f["reentrant"]
+    # A cell whose runs all failed is complete, and not classic.
+    cells = diagram(paper_like)
+    cells[(0.04, 5.0)] = collections.Counter({"finished": n, "failed": n})
+    assert majority(cells[(0.04, 5.0)]) == "failed" and features(cells)["smallest"] == 0.027
     f = features(diagram(lambda k, m: "plastic"))
     assert f["smallest"] is None and not f["borders"]
     print("phase.py self-test: passed")

@@ -18,7 +18,7 @@ The studies (analysis.STUDIES; run directories OUTDIR/<study>_s<seed>):
   9 seeds each; about 25 and 40 minutes a run);
 - gamma of prm/classic.prm at f = 50 (3 seeds) and of prm/plastic.prm at
   f = 100 (one run, about 3 hours);
-- the spiral (prm/spiral.prm at f = 25, 3 seeds, run to phi = 0.95);
+- the spiral (prm/spiral.prm at f = 25, 3 seeds, run to phi = 1);
 - the phase diagram at f = 50 (prm/phase_diagram_f50.prm, 147 runs, about
   8 core-hours; with --jobs N > 1 it runs under mpirun -np N) into
   OUTDIR/output/phase_diagram_f50, checked by phase.py.
@@ -79,10 +79,14 @@ def run_sweep(wirefem, outdir, jobs):
         if os.geteuid() == 0:  # Open MPI refuses root without these
             env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     log_name = os.path.join(outdir, "phase_f50.log")
-    with open(log_name, "a") as log:
-        rc = subprocess.run(cmd, cwd=outdir, env=env, stdout=log, stderr=subprocess.STDOUT, check=False).returncode
+    try:
+        with open(log_name, "a") as log:
+            rc = subprocess.run(cmd, cwd=outdir, env=env, stdout=log, stderr=subprocess.STDOUT,
+                                check=False).returncode
+    except FileNotFoundError as e:  # no mpirun
+        rc = str(e)
     if rc != 0:
-        print(f"the phase-diagram sweep stopped with exit status {rc}: see {log_name}", flush=True)
+        print(f"the phase-diagram sweep stopped ({rc}): see {log_name}", flush=True)
 
 
 def main():
@@ -96,7 +100,7 @@ def main():
     args = parser.parse_args()
     wirefem = os.path.abspath(args.wirefem)
     os.makedirs(args.outdir, exist_ok=True)
-    only = args.only or list(analysis.STUDIES) + ["phase_f50"]
+    only = list(dict.fromkeys(args.only or list(analysis.STUDIES) + ["phase_f50"]))
     cases = [(study, seed) for study in only if study != "phase_f50" for seed in analysis.STUDIES[study]["seeds"]]
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
         for out in pool.map(lambda c: run_case(wirefem, args.outdir, *c), cases):
