@@ -146,7 +146,7 @@ namespace wirefem::fem
     e.n_wall = 0;
     if (rq.want_tangent)
       {
-        dealii::TimerOutput::Scope ts(timer, "sparsity pattern");
+        core::SectionTimer::Scope ts(timer, "sparsity pattern");
         // K's pattern holds the elements of the free range and the
         // candidate pairs within pattern_margin of contact when it was
         // built; it is built anew when the free range changes or a pair
@@ -167,7 +167,7 @@ namespace wirefem::fem
       }
     if (capstan)
       assemble_capstan_loads(rq, e);
-    dealii::TimerOutput::Scope ts(timer, "assemble contact");
+    core::SectionTimer::Scope ts(timer, "assemble contact");
     assemble_wall(rq, e);
     if (capstan)
       {
@@ -243,7 +243,7 @@ namespace wirefem::fem
     const auto &a_blend = *rq.a_blend;
     const double step = rq.step, c_mass = rq.c_mass, c_force = rq.c_force, blend_force = rq.blend_force;
     const bool want_tangent = rq.want_tangent;
-    dealii::TimerOutput::Scope ts(timer, "assemble elements");
+    core::SectionTimer::Scope ts(timer, "assemble elements");
     const unsigned int nd = n_local;
     std::vector<int> g(nd);
     std::vector<double> ue(nd), mat(nd * nd);

@@ -377,9 +377,7 @@ namespace wirefem::fem
 
   void RodModel::print_timing(std::ostream &out) const
   {
-    impl->timer.print_summary();
-    out << impl->timer_stream.str();
-    impl->timer_stream.str("");
+    impl->timer.print_summary(out);
     out << fmt::format("Newton step cuts: {}\n", impl->cuts);
     if (impl->overlap_growth > 0)
       out << fmt::format("steps cut for overlap growth (FEM/Overlap growth): {}\n", impl->overlap_cuts);

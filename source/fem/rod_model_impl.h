@@ -14,10 +14,10 @@
 #include <wirefem/injection/channels.h>
 #include <wirefem/injection/inlet.h>
 #include <wirefem/core/binary.h>
+#include <wirefem/core/section_timer.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/conditional_ostream.h>
-#include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
@@ -231,8 +231,7 @@ namespace wirefem::fem
     std::vector<std::string> effects;
     std::vector<double> history;
     Evaluation latest; ///< at the last accepted state
-    dealii::TimerOutput timer;
-    std::ostringstream timer_stream;
+    core::SectionTimer timer;
 
     /// Set-up = cantilever: the clamp loading. Node 0 is held at the origin
     /// along +x; the end load of the scene, times load_factor, acts on the

@@ -14,7 +14,6 @@ namespace wirefem::fem
     , h(s.fem.element_length)
     , fe(dealii::FE_Q<1, 2>(s.fem.degree), 3)
     , broad(1.0, s.contact.skin, 1)
-    , timer(timer_stream, dealii::TimerOutput::never, dealii::TimerOutput::wall_times)
   {
     // The clamp loading (Set-up = cantilever) has no cavity to touch.
     clamped = s.setup == scene::Setup::cantilever;

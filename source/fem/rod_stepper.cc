@@ -20,7 +20,7 @@ namespace wirefem::fem
     int first, last;
     free_range(t + step, first, last);
     {
-      dealii::TimerOutput::Scope ts(timer, "contact search");
+      core::SectionTimer::Scope ts(timer, "contact search");
       std::vector<Vec2> x(n_nodes);
       for (unsigned int k = 0; k < n_nodes; ++k)
         x[k] = position(u, k);
@@ -122,7 +122,7 @@ namespace wirefem::fem
 
   void RodModel::Impl::update_contact_candidates(const int first, const int last)
   {
-    dealii::TimerOutput::Scope ts(timer, "contact search");
+    core::SectionTimer::Scope ts(timer, "contact search");
     std::vector<Vec2> xs(n_nodes);
     for (unsigned int k = 0; k < n_nodes; ++k)
       xs[k] = position(u, k);
@@ -258,7 +258,7 @@ namespace wirefem::fem
           return StepOutcome::not_converged;
         newton_rhs(e, rq, rhs);
         {
-          dealii::TimerOutput::Scope ts(timer, "linear solve");
+          core::SectionTimer::Scope ts(timer, "linear solve");
           // Kept factors: an inexact Newton step, the linear residual a
           // small fraction of the nonlinear one, or of the tolerance.
           const double linear_tolerance =
