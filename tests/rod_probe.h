@@ -43,14 +43,14 @@ namespace wirefem::fem
       bool solve() { return m.solve_factorised(rhs, dx); }
       unsigned int unknowns() const { return rhs.size(); }
       /// Entries of the tangent's sparsity pattern.
-      std::size_t entries() const { return m.lu_values.size(); }
+      std::size_t entries() const { return m.K.values().size(); }
       /// The tangent of the last factorise() as sorted rows (CSR): the
       /// start of each row, the column and the value of each entry.
       void matrix(std::vector<int> &row_start, std::vector<int> &columns, std::vector<double> &values) const
       {
         row_start = m.lu.row_start();
         columns = m.lu.columns();
-        values = m.lu_values;
+        values = m.K.values();
       }
 
     private:

@@ -1,7 +1,9 @@
 // The KLU wrapper of the rod FEM: solutions against a known answer, the
 // refactorisation path and its fall-back to a full factorisation, a
 // singular matrix refused, and GMRES on kept factors (solve_kept): to its
-// tolerance on a nearby matrix, with a factorisation when it is far.
+// tolerance on a nearby matrix, with a factorisation when it is far. The
+// tangent's storage (CsrMatrix): blocks added where a dense matrix has them.
+#include <wirefem/fem/csr_matrix.h>
 #include <wirefem/fem/sparse_direct.h>
 
 #include <gtest/gtest.h>
@@ -222,5 +224,92 @@ namespace
     SparseDirect lu;
     lu.analyse(2, row_start, columns);
     EXPECT_FALSE(lu.factorise({1.0, 2.0, 2.0, 4.0}));
+  }
+
+  TEST(CsrMatrix, AddsBlocksWhereADenseMatrixHasThem)
+  {
+    // Blocks of random nodes (3 dofs each, or the first 2 as a contact's)
+    // added into a rod pattern holding them, against a dense matrix; dofs
+    // outside the range kept are skipped.
+    std::mt19937 gen(11);
+    const int nodes = 20;
+    std::vector<std::set<int>> rows(3 * nodes);
+    struct Block
+    {
+      std::vector<int> nodes;
+      int components;
+    };
+    std::vector<Block> blocks;
+    std::uniform_int_distribution<int> node(0, nodes - 1);
+    for (int b = 0; b < 40; ++b)
+      {
+        Block blk{{node(gen), node(gen), node(gen)}, b % 2 ? 3 : 2};
+        blk.nodes.resize(b % 3 == 0 ? 1 : 3);
+        if (blk.nodes.size() == 3 &&
+            (blk.nodes[0] == blk.nodes[1] || blk.nodes[1] == blk.nodes[2] || blk.nodes[0] == blk.nodes[2]))
+          continue;
+        for (const int ka : blk.nodes)
+          for (const int kb : blk.nodes)
+            for (int ca = 0; ca < blk.components; ++ca)
+              for (int cb = 0; cb < blk.components; ++cb)
+                rows[3 * ka + ca].insert(3 * kb + cb);
+        blocks.push_back(blk);
+      }
+    std::vector<int> row_start{0}, columns;
+    for (const auto &r : rows)
+      {
+        columns.insert(columns.end(), r.begin(), r.end());
+        row_start.push_back(static_cast<int>(columns.size()));
+      }
+    wirefem::fem::CsrMatrix K;
+    K.reinit(row_start, columns);
+    const int n = 3 * nodes, skip = 5; // the first `skip` dofs are not kept
+    std::vector<double> dense(n * n, 0.0);
+    std::uniform_real_distribution<double> value(-1.0, 1.0);
+    for (const auto &blk : blocks)
+      {
+        std::vector<int> dofs, component;
+        for (const int k : blk.nodes)
+          for (int c = 0; c < blk.components; ++c)
+            {
+              dofs.push_back(3 * k + c < skip ? -1 : 3 * k + c);
+              component.push_back(c);
+            }
+        const int m = static_cast<int>(dofs.size());
+        std::vector<double> block(m * m);
+        for (auto &v : block)
+          v = value(gen);
+        K.add_block(dofs.data(), component.data(), m, block.data(), 0.5);
+        for (int a = 0; a < m; ++a)
+          for (int b = 0; b < m; ++b)
+            if (dofs[a] >= 0 && dofs[b] >= 0)
+              dense[dofs[a] * n + dofs[b]] += 0.5 * block[a * m + b];
+      }
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        {
+          EXPECT_EQ(K.el(i, j), dense[i * n + j]) << i << ", " << j;
+          EXPECT_EQ(K.find(i, j) >= 0, rows[i].count(j) == 1) << i << ", " << j;
+        }
+    // add_at through positions found once, and the product with a vector.
+    const int at[2] = {K.find(7, 7), -1};
+    const double add[2] = {2.0, 100.0};
+    const double before = K.el(7, 7);
+    K.add_at(at, 2, add, 0.25);
+    EXPECT_EQ(K.el(7, 7), before + 0.5);
+    dense[7 * n + 7] += 0.5;
+    std::vector<double> x(n), y(n);
+    for (auto &v : x)
+      v = value(gen);
+    K.vmult(x.data(), y.data());
+    for (int i = 0; i < n; ++i)
+      {
+        double s = 0.0;
+        for (int j = 0; j < n; ++j)
+          s += dense[i * n + j] * x[j];
+        EXPECT_NEAR(y[i], s, 1e-14) << i;
+      }
+    K.zero();
+    EXPECT_EQ(*std::max_element(K.values().begin(), K.values().end()), 0.0);
   }
 } // namespace

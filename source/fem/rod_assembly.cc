@@ -7,31 +7,17 @@ namespace wirefem::fem
   {
     if (tolerance <= 0.0)
       return factorise_K() && solve_factorised(rhs, x);
-    gather_K();
     lu_rhs.assign(rhs.begin(), rhs.end());
-    if (!lu.solve_kept(lu_values, lu_rhs, lu_solution, tolerance,
+    if (!lu.solve_kept(K.values(), lu_rhs, lu_solution, tolerance,
                        static_cast<int>(scene.fem.krylov_iterations)))
       return false;
     std::copy(lu_solution.begin(), lu_solution.end(), x.begin());
     return true;
   }
 
-  void RodModel::Impl::gather_K()
-  {
-    // K's values in storage order, row by row, as rebuild_sparsity numbered them.
-    lu_stored.resize(lu_values.size());
-    std::size_t k = 0;
-    for (unsigned int i = 0; i < K.m(); ++i)
-      for (auto it = K.begin(i); it != K.end(i); ++it)
-        lu_stored[k++] = it->value();
-    for (std::size_t j = 0; j < lu_order.size(); ++j)
-      lu_values[j] = lu_stored[lu_order[j]];
-  }
-
   bool RodModel::Impl::factorise_K()
   {
-    gather_K();
-    return lu.factorise(lu_values);
+    return lu.factorise(K.values());
   }
 
   bool RodModel::Impl::solve_factorised(const dealii::Vector<double> &rhs, dealii::Vector<double> &x)
@@ -81,19 +67,22 @@ namespace wirefem::fem
                                         std::vector<contact::SegmentPair> pairs)
   {
     const int lo = 3 * first, n = 3 * (last - first);
-    dealii::DynamicSparsityPattern dsp(n, n);
+    // The columns of each row (local dof numbers), sorted and unique below.
+    std::vector<std::vector<int>> rows(n);
     // The first `components` dofs of each node of `nodes` with each other.
-    auto couple = [&](const std::vector<int> &nodes, const int components) {
+    auto couple = [&](std::initializer_list<int> nodes, const int components) {
       for (const int ka : nodes)
         for (const int kb : nodes)
           if (ka >= first && ka < last && kb >= first && kb < last)
             for (int ca = 0; ca < components; ++ca)
               for (int cb = 0; cb < components; ++cb)
-                dsp.add(3 * ka + ca - lo, 3 * kb + cb - lo);
+                rows[3 * ka + ca - lo].push_back(3 * kb + cb - lo);
     };
     for (unsigned int c = 0; c < n_cells; ++c)
       if (cell_active(c, first, last))
-        couple(std::vector<int>(cell_node[c].begin(), cell_node[c].end()), 3);
+        for (unsigned int a_ = 0; a_ <= p; ++a_)
+          for (unsigned int b_ = 0; b_ <= p; ++b_)
+            couple({static_cast<int>(cell_node[c][a_]), static_cast<int>(cell_node[c][b_])}, 3);
     // Contact acts on positions only (add_contact). A pair presses each
     // segment's first node onto the other segment (assemble_self_contact):
     // node i with j and j + 1, node j with i and i + 1.
@@ -102,29 +91,30 @@ namespace wirefem::fem
         couple({pr.i, pr.j, pr.j + 1}, 2);
         couple({pr.j, pr.i, pr.i + 1}, 2);
       }
-    sparsity.copy_from(dsp);
-    K.reinit(sparsity);
-    // Sorted rows for KLU (deal.II keeps the diagonal first in each row).
-    const int nr = static_cast<int>(sparsity.n_rows());
-    std::vector<int> row_start(nr + 1, 0), columns;
-    lu_order.clear();
-    std::vector<std::pair<int, int>> row;
-    int entry = 0;
-    for (int i = 0; i < nr; ++i)
+    std::vector<int> row_start(n + 1, 0), columns;
+    for (int i = 0; i < n; ++i)
       {
-        row.clear();
-        for (auto it = sparsity.begin(i); it != sparsity.end(i); ++it)
-          row.emplace_back(static_cast<int>(it->column()), entry++);
-        std::sort(row.begin(), row.end());
-        for (const auto &[col, at] : row)
-          {
-            columns.push_back(col);
-            lu_order.push_back(at);
-          }
+        auto &r = rows[i];
+        std::sort(r.begin(), r.end());
+        r.erase(std::unique(r.begin(), r.end()), r.end());
+        columns.insert(columns.end(), r.begin(), r.end());
         row_start[i + 1] = static_cast<int>(columns.size());
       }
-    lu_values.resize(columns.size());
-    lu.analyse(nr, std::move(row_start), std::move(columns), 3);
+    K.reinit(row_start, columns);
+    const unsigned int nd = n_local;
+    cell_position.assign(static_cast<std::size_t>(n_cells) * nd * nd, -1);
+    const auto local = [&](const unsigned int c, const unsigned int i) {
+      const int g = static_cast<int>(3 * cell_node[c][i / 3] + i % 3) - lo;
+      return g >= 0 && g < n ? g : -1;
+    };
+    for (unsigned int c = 0; c < n_cells; ++c)
+      if (cell_active(c, first, last))
+        for (unsigned int i = 0; i < nd; ++i)
+          for (unsigned int j = 0; j < nd; ++j)
+            if (local(c, i) >= 0 && local(c, j) >= 0)
+              cell_position[(static_cast<std::size_t>(c) * nd + i) * nd + j] =
+                  K.find(local(c, i), local(c, j));
+    lu.analyse(n, std::move(row_start), std::move(columns), 3);
     sp_first = first;
     sp_last = last;
     sp_pairs = std::move(pairs);
@@ -157,7 +147,7 @@ namespace wirefem::fem
             near_pairs(*rq.u, pattern_margin, near);
             rebuild_sparsity(rq.first, rq.last, std::move(near));
           }
-        K = 0;
+        K.zero();
       }
     assemble_elements(rq, e);
     if (clamped)
@@ -192,37 +182,32 @@ namespace wirefem::fem
       }
   }
 
-  void RodModel::Impl::add_matrix(const AssemblyRequest &rq, const std::vector<int> &g, const double *m,
+  void RodModel::Impl::add_matrix(const AssemblyRequest &rq, const int *g, const int n, const double *m,
                                   const double scale)
   {
     const int lo = 3 * rq.first, hi = 3 * rq.last;
-    scratch_rows.clear();
-    scratch_pick.clear();
-    for (unsigned int i = 0; i < g.size(); ++i)
-      if (g[i] >= lo && g[i] < hi)
-        {
-          scratch_rows.push_back(g[i] - lo);
-          scratch_pick.push_back(i);
-        }
-    if (scratch_rows.empty())
-      return;
-    scratch_block.reinit(scratch_rows.size(), scratch_rows.size());
-    for (unsigned int i = 0; i < scratch_pick.size(); ++i)
-      for (unsigned int j = 0; j < scratch_pick.size(); ++j)
-        scratch_block(i, j) = scale * m[scratch_pick[i] * g.size() + scratch_pick[j]];
-    K.add(scratch_rows, scratch_block);
+    constexpr int most = 18; // an element of degree 5, or a contact of 9 nodes
+    assert(n <= most);
+    int local[most], component[most];
+    for (int i = 0; i < n; ++i)
+      {
+        local[i] = g[i] >= lo && g[i] < hi ? g[i] - lo : -1;
+        component[i] = g[i] % 3;
+      }
+    K.add_block(local, component, n, m, scale);
   }
 
   void RodModel::Impl::add_contact(const AssemblyRequest &rq, const ContactContribution &cc,
-                                   const std::vector<int> &nodes, Evaluation &e)
+                                   const std::initializer_list<int> nodes, Evaluation &e)
   {
-    std::vector<int> g;
+    int g[6];
+    int n = 0;
     for (const int k : nodes)
       {
-        g.push_back(3 * k);
-        g.push_back(3 * k + 1);
+        g[n++] = 3 * k;
+        g[n++] = 3 * k + 1;
       }
-    for (unsigned int i = 0; i < g.size(); ++i)
+    for (int i = 0; i < n; ++i)
       {
         const double normal = cc.residual[i] - cc.friction_residual[i];
         e.force[g[i]] += normal;
@@ -231,7 +216,7 @@ namespace wirefem::fem
         e.residual[g[i]] += rq.blend_force * normal + cc.friction_residual[i];
       }
     if (rq.want_tangent)
-      add_matrix(rq, g, cc.tangent.data(), rq.c_force);
+      add_matrix(rq, g, n, cc.tangent.data(), rq.c_force);
     e.contact += cc.energy;
     e.max_overlap = std::max(e.max_overlap, cc.overlap);
   }
@@ -280,7 +265,8 @@ namespace wirefem::fem
           {
             for (unsigned int i = 0; i < nd * nd; ++i)
               mat[i] = c_force * er.tangent[i] + (inertia ? c_mass * element_mass[i] : 0.0);
-            add_matrix(rq, g, mat.data(), 1.0);
+            K.add_at(&cell_position[static_cast<std::size_t>(c) * nd * nd], static_cast<int>(nd * nd),
+                     mat.data(), 1.0);
           }
         std::copy(er.state.begin(), er.state.end(), e.state.begin() + c * stiffness_shape.n_q);
         e.axial += er.axial_energy;
@@ -395,7 +381,7 @@ namespace wirefem::fem
                 }
               e.contact += energy;
               if (want_tangent)
-                add_matrix(rq, g, mat.data(), c_force);
+                add_matrix(rq, g.data(), static_cast<int>(nd), mat.data(), c_force);
             }
         }
     }

@@ -58,7 +58,8 @@ namespace wirefem::fem
       if (rq.want_tangent)
         {
           const double m[9] = {0, 0, -f * std::sin(th), 0, 0, f * std::cos(th), 0, 0, 0};
-          add_matrix(rq, {node_dof(k, 0), node_dof(k, 1), node_dof(k, 2)}, m, rq.c_force);
+          const int g[3] = {node_dof(k, 0), node_dof(k, 1), node_dof(k, 2)};
+          add_matrix(rq, g, 3, m, rq.c_force);
         }
     };
     // Leading end: the compressive follower force and the clockwise moment
@@ -93,15 +94,14 @@ namespace wirefem::fem
       return;
     // K's dofs start at node 0 here (the free range starts there): rows 0
     // and 1 (and columns) have the same pattern, node 0's elements.
-    std::vector<unsigned int> cols;
-    for (auto it = K.begin(0); it != K.end(0); ++it)
-      cols.push_back(it->column());
-    for (const auto j : cols)
+    const std::vector<int> cols(K.columns().begin() + K.row_start()[0],
+                                K.columns().begin() + K.row_start()[1]);
+    for (const int j : cols)
       K.set(0, j, er.x * K.el(0, j) + er.y * K.el(1, j));
-    for (const auto i : cols)
+    for (const int i : cols)
       K.set(i, 0, er.x * K.el(i, 0) + er.y * K.el(i, 1));
-    for (const unsigned int d : {1u, 2u})
-      for (const auto i : cols)
+    for (const int d : {1, 2})
+      for (const int i : cols)
         {
           K.set(d, i, i == d ? 1.0 : 0.0);
           K.set(i, d, i == d ? 1.0 : 0.0);

@@ -53,7 +53,7 @@ namespace wirefem::fem
         mode = tmp;
         mode /= mode.l2_norm();
       }
-    K.vmult(tmp, mode);
+    K.vmult(mode.data(), tmp.data());
     return (mode * tmp) / (mode * mode);
   }
 

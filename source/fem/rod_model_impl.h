@@ -8,6 +8,7 @@
 #include <wirefem/contact/friction_law.h>
 #include <wirefem/contact/segment_distance.h>
 #include <wirefem/fem/contact_element.h>
+#include <wirefem/fem/csr_matrix.h>
 #include <wirefem/fem/rod_element.h>
 #include <wirefem/fem/rod_model.h>
 #include <wirefem/fem/sparse_direct.h>
@@ -22,16 +23,13 @@
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/grid/tria.h>
-#include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/sparsity_pattern.h>
-#include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <functional>
+#include <initializer_list>
 #include <cstdlib>
 #include <iostream>
 #include <cmath>
@@ -173,19 +171,20 @@ namespace wirefem::fem
 
     contact::BroadPhase broad;
     int exclusion = 1;
-    dealii::SparsityPattern sparsity;
-    dealii::SparseMatrix<double> K;
+    /// The tangent, in the sorted rows the LU reads: assembly adds into
+    /// the values that are factorised.
+    CsrMatrix K;
+    /// For each cell, the position in K's values of each entry of its
+    /// element matrix (n_local^2, row major; -1 outside the free range),
+    /// found when the pattern is built.
+    std::vector<int> cell_position;
     /// K's LU (KLU): analysed once per pattern, refactorised per iteration.
     SparseDirect lu;
-    std::vector<int> lu_order; ///< entry of K (storage order) for each entry of the sorted CSR
-    std::vector<double> lu_values;
-    std::vector<double> lu_stored, lu_rhs, lu_solution; ///< solve_linear's scratch
+    std::vector<double> lu_rhs, lu_solution; ///< solve_linear's scratch
     /// Solves K x = rhs; false when K is singular. With a tolerance > 0,
     /// by GMRES on the kept factors to |rhs - K x|_2 <= tolerance
     /// (SparseDirect::solve_kept); otherwise K is factorised.
     bool solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x, double tolerance = 0.0);
-    /// K's values into lu_values, in the sorted CSR order KLU reads.
-    void gather_K();
     bool factorise_K();
     /// FEM/Predictor = constant velocity: Newton starts from u + h v.
     bool velocity_predictor = false;
@@ -377,15 +376,13 @@ namespace wirefem::fem
     bool wall_spring_contact(const AssemblyRequest &rq, int k, ContactContribution &cc, Evaluation &e) const;
     void assemble_channel_walls(const AssemblyRequest &rq, Evaluation &e);
     void assemble_self_contact(const AssemblyRequest &rq, Evaluation &e);
-    /// Adds scale * m (the square matrix on the global dofs g, row major)
-    /// to K, restricted to the free range.
-    void add_matrix(const AssemblyRequest &rq, const std::vector<int> &g, const double *m, double scale);
+    /// Adds scale * m (the square matrix on the n global dofs g, row
+    /// major) to K, restricted to the free range; each dof is component
+    /// g % 3 of node g / 3.
+    void add_matrix(const AssemblyRequest &rq, const int *g, int n, const double *m, double scale);
     /// Adds a contact contribution on the nodes listed (x and y of each).
-    void add_contact(const AssemblyRequest &rq, const ContactContribution &cc, const std::vector<int> &nodes,
-                     Evaluation &e);
-    std::vector<dealii::types::global_dof_index> scratch_rows; ///< add_matrix
-    std::vector<int> scratch_pick;                             ///< add_matrix
-    dealii::FullMatrix<double> scratch_block;                  ///< add_matrix
+    void add_contact(const AssemblyRequest &rq, const ContactContribution &cc,
+                     std::initializer_list<int> nodes, Evaluation &e);
     /// K's pattern for the free range [first, last) and these contact pairs.
     void rebuild_sparsity(int first, int last, std::vector<contact::SegmentPair> pairs);
     /// How an implicit step ended: committed, Newton failed, or converged
