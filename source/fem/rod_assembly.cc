@@ -296,7 +296,7 @@ namespace wirefem::fem
         for (int k = wall_first; k < wall_last; ++k)
           if (spring ? wall_spring_contact(rq, k, cc, e)
                      : wall_contact(radius, wall_settings, node_weight(k), position(u1, k), rq.velocity0(k),
-                                    rq.c_vel, cc, rq.friction_scale()))
+                                    rq.friction_c_vel(), cc, rq.friction_scale()))
             {
               add_contact(rq, cc, {k}, e);
               e.node_contact_force[k] += cc.normal_force;
@@ -313,7 +313,7 @@ namespace wirefem::fem
     SpringFriction sf;
     const bool touching = wall_contact_spring(
         radius, wall_settings, node_weight(k), scene.contact.friction.tangential_stiffness_ratio,
-        position(*rq.u, k), spring_from[k], rq.step, wall_springs[k], cc, sf, rq.friction_scale());
+        position(*rq.u, k), spring_from[k], rq.friction_step(), wall_springs[k], cc, sf, rq.friction_scale());
     if (touching)
       {
         e.wall_history[k] = sf.history;
@@ -417,8 +417,9 @@ namespace wirefem::fem
               const std::array<Vec2, 3> x{{at(node), at(seg), at(seg + 1)}};
               const std::array<Vec2, 3> w0{{rq.velocity0(node), rq.velocity0(seg), rq.velocity0(seg + 1)}};
               double tc, fv;
-              const bool touch = point_stretch_contact(self_settings, 0.5 * node_weight(node), x, w0,
-                                                       rq.c_vel, allowed(node, seg + 1), cc, tc, fv, fs);
+              const bool touch =
+                  point_stretch_contact(self_settings, 0.5 * node_weight(node), x, w0, rq.friction_c_vel(),
+                                        allowed(node, seg + 1), cc, tc, fv, fs);
               e.max_overlap = std::max(e.max_overlap, cc.overlap);
               if (!touch)
                 continue;

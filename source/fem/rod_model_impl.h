@@ -79,9 +79,20 @@ namespace wirefem::fem
     double c_force = 1.0;     ///< weight of the forces in the tangent
     double blend_force = 1.0; ///< weight of the conservative forces in the residual
     bool constrain = true;    ///< eliminate the capstan roller's tangential dof
+    /// Friction sees the velocity times this: 1, or for quasi-static
+    /// injection step / dt_max, so that its regularisation acts on the
+    /// slip over a step, whatever the step's length.
+    double friction_rate = 1.0;
 
-    /// The part of the velocity that does not depend on u, at node k.
-    core::Vec2 velocity0(const int k) const { return {(*v0)[3 * k], (*v0)[3 * k + 1]}; }
+    /// The part of the velocity friction sees that does not depend on u,
+    /// at node k, and its weight of u.
+    core::Vec2 velocity0(const int k) const
+    {
+      return {friction_rate * (*v0)[3 * k], friction_rate * (*v0)[3 * k + 1]};
+    }
+    double friction_c_vel() const { return friction_rate * c_vel; }
+    /// The time over which friction's rates are measured.
+    double friction_step() const { return step / friction_rate; }
     /// Weight of the friction (dissipative) part of a contact tangent.
     double friction_scale() const { return c_force > 0 ? 1.0 / c_force : 1.0; }
 
@@ -150,6 +161,9 @@ namespace wirefem::fem
     // Generalized-alpha.
     double alpha_m = 0, alpha_f = 0, beta = 0.25, gamma = 0.5;
     bool inertia = true;
+    /// Integrator = quasi-static on the injection set-up: steps by injected
+    /// length, a stress-free start shape, friction on slip per step.
+    bool quasi_static_injection = false;
 
     // State at t_n.
     dealii::Vector<double> u, v, a, f_old;
@@ -343,6 +357,9 @@ namespace wirefem::fem
     void build_contact(const scene::RodScene &s);
     /// Time integrator (or static path), Newton's tolerance and step.
     void build_integrator(const scene::RodScene &s);
+    /// The longest implicit step of the injection set-up when FEM/Time
+    /// step is 0.
+    double default_step(const scene::RodScene &s) const;
     /// The seeded shape at rest, its initial acceleration and stored energy.
     void set_initial_state(const scene::RodScene &s);
     /// The injection's initial wire: the seeded shape across the cavity (or

@@ -94,7 +94,14 @@ namespace wirefem::fem
       update_contact_candidates(first, last);
     const double c_mass = inertia ? (1.0 - alpha_m) / (beta * step * step) : 0.0;
     const double c_force = 1.0 - alpha_f;
-    return {&x.u1, &x.a_blend, &x.v0, step, x.c_vel, first, last, true, c_mass, c_force, c_force};
+    AssemblyRequest rq{&x.u1, &x.a_blend, &x.v0, step, x.c_vel, first, last, true, c_mass, c_force, c_force};
+    // Quasi-static injection: friction measures the slip of a step over
+    // the longest step, not its rate, so that its regularisation does not
+    // sharpen into a jump as steps are cut (Newton then stalls at the first
+    // self contact).
+    if (quasi_static_injection)
+      rq.friction_rate = step / dt_max;
+    return rq;
   }
 
   void RodModel::Impl::newton_rhs(const Evaluation &ev, const AssemblyRequest &rq,
