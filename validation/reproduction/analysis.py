@@ -157,6 +157,10 @@ def study_results(outdir, study):
     r["loops_each"] = [summary["loops"] for summary in summaries]
     r["phi_each"] = [summary["phi_final"] for summary in summaries]
     r["gamma"] = mean_error([summary.get("gamma") for summary in summaries])
+    if r["gamma"][2] == 1:
+        # One run: its fit's own standard error stands in for the spread.
+        fit = next(summary.get("gamma_error") for summary in summaries if summary.get("gamma") is not None)
+        r["gamma"] = (r["gamma"][0], fit if fit is not None else float("nan"), 1)
     r["single_beta"] = sorted(summary.get("beta") for summary in summaries if summary.get("beta") is not None)
     r["loops"] = mean_error([summary["loops"] for summary in summaries])
     r["morphology"] = sorted({summary["morphology"] for summary in summaries})
@@ -263,10 +267,12 @@ def gamma_row(r, s):
     m, e, _ = r["phi_final"]
     ref = "f 50" if s["gamma"][0] == 1.75 else "f 100"
     name = "gamma, same" if "phi_c" in s else f"gamma, {s['title']}"
-    end = "" if "phi_c" in s else (f" (ended at phi {m:.3f} +- {e:.3f}, {r['jammed']} of {r['runs']} jammed, "
+    spread = f"+- {e:.3f}" if gn > 1 else "(one run)"
+    end = "" if "phi_c" in s else (f" (ended at phi {m:.3f} {spread}, {r['jammed']} of {r['runs']} jammed, "
                                    f"{r['failed']} failed; {', '.join(r['morphology'])}; {r['loops'][0]:.0f} loops)")
+    how = f"mean of single-run fits ({gn} runs)" if gn > 1 else "one run: the fit's standard error"
     return [f"| {name} | {s['gamma'][0]} +- {s['gamma'][1]} ({ref}) | {gm:.2f} +- {ge:.2f}{end} | {where(r)} "
-            f"| mean of single-run fits ({gn} runs) |"]
+            f"| {how} |"]
 
 
 def spiral_rows(r, s):
@@ -300,7 +306,7 @@ def differ_lines(r, s):
         pg, pge = s["gamma"]
         err = math.hypot(ge, pge) if math.isfinite(ge) else pge
         lines.append(f"{head} gamma {gm - pg:+.2f} from the paper's ({abs(gm - pg) / err:.1f} combined standard "
-                     f"errors{'' if gn > 1 else ', the paper error only: one run'}); ended "
+                     f"errors{'' if gn > 1 else ', with one run its fit error'}); ended "
                      f"{', '.join(r['morphology'])}.")
     return lines
 
