@@ -890,20 +890,25 @@ namespace
   TEST(RodModel, QuasiStaticInjectionKeepsItsStartShapeAndCostsTheSameAtAnySpeed)
   {
     // Without inertia the start's perturbation is stress-free (its bending
-    // energy is zero and the wire stays bent as it is pushed), friction
+    // energy is a hundredth of the dynamic start's or less, and the wire
+    // stays bent as it is pushed), friction
     // acts on the slip per step, and the steps go by injected length: the
     // runs at speeds 1 and 0.1 take about the same steps (implicit dynamics
     // takes 10 times as many at 0.1) and both get past their first self
-    // contacts to phi 0.3. (The ledger is not checked: the start shape's
-    // stretch relaxes in the first step unbooked, see docs/notes.)
+    // contacts to phi 0.3 with the ledger closed to 1% (the start shape's
+    // stretch relaxed before the ledger opens).
     unsigned long steps[2] = {0, 0};
     int k = 0;
     for (const char *speed : {"Injection/Speed=1", "Injection/Speed=0.1"})
       {
-        fem::RodModel m(
-            fem_scene({"Wire/Plasticity/Yield curvature=0.05", "Contact/Friction/Static coefficient=0.5",
-                       "FEM/Integrator=quasi-static", speed}));
-        EXPECT_EQ(m.energies().bending, 0.0) << speed;
+        const std::vector<std::string> keys{"Wire/Plasticity/Yield curvature=0.05",
+                                            "Contact/Friction/Static coefficient=0.5", speed};
+        auto qs_keys = keys;
+        qs_keys.push_back("FEM/Integrator=quasi-static");
+        fem::RodModel m(fem_scene(qs_keys));
+        // The dynamic start holds the perturbation's bending energy.
+        const fem::RodModel dynamic(fem_scene(keys));
+        EXPECT_LT(m.energies().bending, 0.01 * dynamic.energies().initial) << speed;
         bool bent = false, touched = false;
         const double start = m.injected_length();
         while (analysis::packing_density(m.injected_length(), 6.0) < 0.3)
@@ -914,6 +919,7 @@ namespace
           }
         EXPECT_TRUE(bent) << speed << ": the start shape did not persist";
         EXPECT_TRUE(touched) << speed;
+        EXPECT_LT(std::abs(m.energies().balance_error()), 0.01) << speed;
         steps[k++] = m.n_steps();
       }
     EXPECT_LT(static_cast<double>(steps[1]), 1.5 * static_cast<double>(steps[0]))

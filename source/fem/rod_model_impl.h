@@ -357,6 +357,9 @@ namespace wirefem::fem
     void build_contact(const scene::RodScene &s);
     /// Time integrator (or static path), Newton's tolerance and step.
     void build_integrator(const scene::RodScene &s);
+    /// Quasi-static injection: relaxes the stretch of the start shape with
+    /// the channels held, then opens the ledger.
+    void relax_start();
     /// The longest implicit step of the injection set-up when FEM/Time
     /// step is 0.
     double default_step(const scene::RodScene &s) const;
