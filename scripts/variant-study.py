@@ -25,9 +25,10 @@ import study  # noqa: E402
 
 
 def mean_error(xs):
-    if len(xs) < 2:
-        return f"{xs[0]:.4f}" if xs else "-"
-    return f"{statistics.mean(xs):.4f} +- {statistics.stdev(xs) / len(xs) ** 0.5:.4f}"
+    m, e, n = study.mean_sem(xs)
+    if n < 2:
+        return f"{m:.4f}" if n else "-"
+    return f"{m:.4f} +- {e:.4f}"
 
 
 def row(name, sets, summaries):

@@ -27,6 +27,19 @@ ORDER_SLACK = 0.2
 FLOOR = 1e-9
 
 
+def mean_sem(xs):
+    """(mean, standard error of the mean, n) of the finite values of xs;
+    the error is nan for one value, and all are nan for none."""
+    xs = [x for x in xs if x is not None and math.isfinite(x)]
+    if not xs:
+        return float("nan"), float("nan"), 0
+    m = sum(xs) / len(xs)
+    if len(xs) == 1:
+        return m, float("nan"), 1
+    var = sum((x - m) ** 2 for x in xs) / (len(xs) - 1)
+    return m, math.sqrt(var / len(xs)), len(xs)
+
+
 def finished(out):
     """Whether out holds a run that ended (summary.json, not interrupted;
     only injection runs can be interrupted, so a summary without the key

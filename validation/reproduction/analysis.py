@@ -12,7 +12,7 @@ from scipy.optimize import curve_fit
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import phase  # noqa: E402
-from study import finished  # noqa: E402
+from study import finished, mean_sem as mean_error  # noqa: E402
 
 # The scenes, their overrides of prm/classic.prm and the paper's values.
 SCENES = {
@@ -87,14 +87,6 @@ def read_run(out):
             force.append(float(row["force"]))
             loops.append(int(row["loops"]))
     return summary, np.array(phi), np.array(force), np.array(loops)
-
-
-def mean_error(xs):
-    xs = [x for x in xs if x is not None and math.isfinite(x)]
-    if not xs:
-        return float("nan"), float("nan"), 0
-    m = statistics.mean(xs)
-    return m, (statistics.stdev(xs) / math.sqrt(len(xs)) if len(xs) > 1 else float("nan")), len(xs)
 
 
 def average_force(runs, phi_end):
