@@ -927,6 +927,60 @@ namespace
     EXPECT_GT(static_cast<double>(steps[1]), static_cast<double>(steps[0]) / 1.5);
   }
 
+  scene::Scene snapping_scene()
+  {
+    // At mu_st 5 the quasi-static wire meets a state with no equilibrium
+    // near (Newton fails down to the smallest step) at L = 33.9.
+    return fem_scene({"Wire/Plasticity/Yield curvature=0.05", "Contact/Friction/Static coefficient=5",
+                      "FEM/Integrator=quasi-static"});
+  }
+
+  TEST(RodModel, QuasiStaticInjectionHandsASnapToDynamicsAndGoesOn)
+  {
+    // The snap is taken by generalized-alpha with the injection paused
+    // (the injected length does not move), and quasi-static stepping
+    // resumes once the wire is calm; the run gets to phi 0.5.
+    fem::RodModel m(snapping_scene());
+    bool paused_held = true, resumed = false;
+    while (analysis::packing_density(m.injected_length(), 6.0) < 0.5)
+      {
+        const double before = m.injected_length();
+        const bool dynamic = fem::RodModelProbe::in_dynamic_phase(m);
+        m.step();
+        if (dynamic && fem::RodModelProbe::in_dynamic_phase(m))
+          paused_held = paused_held && m.injected_length() == before;
+        resumed = resumed || (dynamic && !fem::RodModelProbe::in_dynamic_phase(m));
+      }
+    EXPECT_GE(fem::RodModelProbe::snaps(m), 1u);
+    EXPECT_TRUE(paused_held) << "the injection moved in a dynamic phase";
+    EXPECT_TRUE(resumed) << "never back to quasi-static steps";
+  }
+
+  TEST(RodModel, ADynamicPhaseSavesAndLoadsBitForBit)
+  {
+    const auto s = snapping_scene();
+    fem::RodModel straight(s), first(s), resumed(s);
+    while (!fem::RodModelProbe::in_dynamic_phase(first))
+      first.step();
+    for (int i = 0; i < 100; ++i)
+      first.step();
+    ASSERT_TRUE(fem::RodModelProbe::in_dynamic_phase(first));
+    std::stringstream buffer;
+    first.save(buffer);
+    resumed.load(buffer);
+    while (straight.n_steps() < first.n_steps())
+      straight.step();
+    for (int i = 0; i < 300; ++i)
+      {
+        straight.step();
+        resumed.step();
+      }
+    EXPECT_EQ(straight.time(), resumed.time());
+    EXPECT_EQ(largest_distance(straight, resumed), 0.0);
+    EXPECT_EQ(fem::RodModelProbe::in_dynamic_phase(straight), fem::RodModelProbe::in_dynamic_phase(resumed));
+    EXPECT_EQ(straight.energies().kinetic, resumed.energies().kinetic);
+  }
+
   TEST(RodModel, ThePatternHoldsThePairsNearContactAndAPairThatComesNear)
   {
     // K's pattern holds the candidate pairs near contact, fewer than the

@@ -4,7 +4,7 @@ namespace wirefem::fem
 {
   namespace
   {
-    constexpr std::uint64_t fem_magic = 0x77666d66656d3032ull; // "wfmfem02"
+    constexpr std::uint64_t fem_magic = 0x77666d66656d3033ull; // "wfmfem03"
     // Written byte for byte into the checkpoint: no padding.
     static_assert(sizeof(core::StepReport) == sizeof(double) + 2 * sizeof(int), "StepReport has padding");
   } // namespace
@@ -79,6 +79,13 @@ namespace wirefem::fem
           std::cerr << fmt::format("t = {:.5g}: step {:.3g} cut; residuals{}\n", m.t, step,
                                    m.residual_history());
         step *= 0.5;
+        if (m.quasi_static_injection && !m.dynamic_phase && step < m.scene.fem.minimum_time_step)
+          {
+            // A snap: no equilibrium near. Dynamics takes it.
+            m.enter_dynamics();
+            step = m.dt;
+            continue;
+          }
         if (step < m.scene.fem.minimum_time_step)
           throw std::runtime_error(fmt::format("Newton did not converge at t = {:.6g} even with the time "
                                                "step cut to {:.3g} (below FEM/Minimum "
@@ -94,6 +101,13 @@ namespace wirefem::fem
     const std::size_t iterations = m.history.size() - 1;
     const bool easy = iterations <= 3 || (m.modified_newton && m.step_tangents <= 2 && iterations <= 5);
     m.dt = easy ? std::min(m.dt_max, 1.5 * step) : step;
+    if (m.dynamic_phase)
+      {
+        ++m.dynamic_steps;
+        m.calm_steps = m.ledger.kinetic <= Impl::qs_calm * m.ledger.stored() ? m.calm_steps + 1 : 0;
+        if (m.calm_steps >= Impl::qs_calm_steps)
+          m.leave_dynamics();
+      }
   }
 
   double RodModel::time() const
@@ -110,7 +124,7 @@ namespace wirefem::fem
   }
   double RodModel::injected_length() const
   {
-    return impl->channels.injected_length(impl->t);
+    return impl->channels.injected_length(impl->injection_time(impl->t));
   }
   double RodModel::force_left() const
   {
@@ -315,6 +329,7 @@ namespace wirefem::fem
         const std::vector<std::pair<double, double>> steps(w.steps.begin(), w.steps.end());
         core::write_vector(out, steps, 0, steps.size());
       }
+    m.save_quasi_static(out);
   }
 
   void RodModel::load(std::istream &in)
@@ -372,6 +387,7 @@ namespace wirefem::fem
         core::read_vector(in, steps);
         w.steps.assign(steps.begin(), steps.end());
       }
+    m.load_quasi_static(in);
     m.broad.invalidate();
   }
 
@@ -379,6 +395,9 @@ namespace wirefem::fem
   {
     impl->timer.print_summary(out);
     out << fmt::format("Newton step cuts: {}\n", impl->cuts);
+    if (impl->quasi_static_injection)
+      out << fmt::format("quasi-static snaps taken by dynamics: {} ({} dynamic steps)\n", impl->snaps,
+                         impl->dynamic_steps);
     if (impl->overlap_growth > 0)
       out << fmt::format("steps cut for overlap growth (FEM/Overlap growth): {}\n", impl->overlap_cuts);
     const auto &ls = impl->lu.statistics();

@@ -164,6 +164,39 @@ namespace wirefem::fem
     /// Integrator = quasi-static on the injection set-up: steps by injected
     /// length, a stress-free start shape, friction on slip per step.
     bool quasi_static_injection = false;
+    /// Quasi-static injection hands a snap (a step Newton cannot take even
+    /// cut below FEM/Minimum time step) to generalized-alpha with
+    /// the injection paused, until the kinetic energy has fallen below
+    /// qs_calm of the stored one for qs_calm_steps steps in a row.
+    bool dynamic_phase = false;
+    double pause_from = -1.0;  ///< time the injection was paused at; -1: not paused
+    double paused_total = 0.0; ///< time spent paused before
+    unsigned long calm_steps = 0, snaps = 0, dynamic_steps = 0;
+    /// Snaps in a row, each within a longest step's injection of the one
+    /// before, and where the last one was (wire per channel); at
+    /// qs_stuck_snaps the run stops: the quasi-static problem has no
+    /// solution there.
+    unsigned long stuck_snaps = 0;
+    double last_snap_at = -1.0;
+    static constexpr unsigned long qs_stuck_snaps = 50;
+    double qs_dt_max = 0, dynamic_dt_max = 0;
+    static constexpr double qs_calm = 1e-4;
+    static constexpr unsigned long qs_calm_steps = 10;
+    /// Generalized-alpha's parameters of the dynamic phases.
+    double dyn_alpha_m = 0, dyn_alpha_f = 0, dyn_beta = 0.25, dyn_gamma = 0.5;
+    /// The channels' clock: time less the paused time.
+    double injection_time(double time) const
+    {
+      return (pause_from >= 0.0 ? pause_from : time) - paused_total;
+    }
+    bool injecting() const { return pause_from < 0.0; }
+    /// Quasi-static injection: to generalized-alpha with the injection
+    /// paused, and back.
+    void enter_dynamics();
+    void leave_dynamics();
+    /// The dynamic phase's state in the checkpoint (after the rest).
+    void save_quasi_static(std::ostream &out) const;
+    void load_quasi_static(std::istream &in);
 
     // State at t_n.
     dealii::Vector<double> u, v, a, f_old;
@@ -363,6 +396,11 @@ namespace wirefem::fem
     /// The longest implicit step of the injection set-up when FEM/Time
     /// step is 0.
     double default_step(const scene::RodScene &s) const;
+    /// The longest generalized-alpha step of the injection set-up.
+    double dynamic_step(const scene::RodScene &s) const;
+    /// Generalized-alpha's parameters for FEM/Spectral radius, for the
+    /// dynamic phases of quasi-static injection and, when `now`, the run's.
+    void set_generalized_alpha(double rho, bool now);
     /// The seeded shape at rest, its initial acceleration and stored energy.
     void set_initial_state(const scene::RodScene &s);
     /// The injection's initial wire: the seeded shape across the cavity (or
@@ -370,8 +408,10 @@ namespace wirefem::fem
     void place_injected_wire(const scene::RodScene &s);
 
     int node_dof(unsigned int node, unsigned int c) const { return static_cast<int>(3 * node + c); }
-    double left_inlet_S(double time) const { return a_left - channels.injected_per_channel(time); }
-    double right_inlet_S(double time) const { return a_right + channels.injected_per_channel(time); }
+    /// Wire pushed through each channel by this time.
+    double injected_at(double time) const { return channels.injected_per_channel(injection_time(time)); }
+    double left_inlet_S(double time) const { return a_left - injected_at(time); }
+    double right_inlet_S(double time) const { return a_right + injected_at(time); }
     /// The nodes with material coordinate in (sl, sr).
     void nodes_between(double sl, double sr, int &first, int &last) const;
     void free_range(double time, int &first, int &last) const;

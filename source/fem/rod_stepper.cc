@@ -99,7 +99,7 @@ namespace wirefem::fem
     // the longest step, not its rate, so that its regularisation does not
     // sharpen into a jump as steps are cut (Newton then stalls at the first
     // self contact).
-    if (quasi_static_injection)
+    if (quasi_static_injection && !dynamic_phase)
       rq.friction_rate = step / dt_max;
     return rq;
   }
@@ -314,7 +314,7 @@ namespace wirefem::fem
               w += e.residual[3 * k + cc] * (u1[3 * k + cc] - u[3 * k + cc]);
             work[ki < work_first ? 0 : 1] += w;
           }
-    const double du = channels.injected_per_channel(t + step) - channels.injected_per_channel(t);
+    const double du = injected_at(t + step) - injected_at(t);
     for (int side = 0; side < 2; ++side)
       {
         ledger.injection_work += work[side];
@@ -362,5 +362,96 @@ namespace wirefem::fem
     first_free = first;
     last_free = last;
     latest = std::move(e);
+  }
+
+  void RodModel::Impl::enter_dynamics()
+  {
+    const double at = injected_at(t);
+    stuck_snaps = last_snap_at >= 0.0 && at - last_snap_at < 0.025 * diameter ? stuck_snaps + 1 : 0;
+    last_snap_at = at;
+    if (stuck_snaps >= qs_stuck_snaps)
+      throw std::runtime_error(fmt::format(
+          "quasi-static injection made no progress through {} snaps in a row at t = {:.6g} (Newton finds no "
+          "equilibrium after each dynamic phase; FEM/Integrator = generalized-alpha runs this scene)",
+          stuck_snaps, t));
+    // From the last equilibrium, at rest, with the channels held.
+    dynamic_phase = true;
+    inertia = true;
+    alpha_m = dyn_alpha_m;
+    alpha_f = dyn_alpha_f;
+    beta = dyn_beta;
+    gamma = dyn_gamma;
+    v = 0.0;
+    a = 0.0;
+    pause_from = t;
+    dt_max = dynamic_dt_max;
+    dt = dt_max;
+    calm_steps = 0;
+    ++snaps;
+    if (std::getenv("WIREFEM_NEWTON_LOG"))
+      std::cerr << fmt::format("t = {:.5g}: a snap; generalized-alpha with the injection paused\n", t);
+  }
+
+  void RodModel::Impl::leave_dynamics()
+  {
+    // What kinetic energy is left is taken out with the velocities; the
+    // ledger books it as damping.
+    ledger.damping += ledger.kinetic;
+    ledger.kinetic = 0.0;
+    dynamic_phase = false;
+    inertia = false;
+    alpha_m = alpha_f = 0.0;
+    beta = 0.25;
+    gamma = 0.5;
+    v = 0.0;
+    a = 0.0;
+    paused_total += t - pause_from;
+    pause_from = -1.0;
+    dt_max = qs_dt_max;
+    dt = dt_max / 64.0;
+    if (std::getenv("WIREFEM_NEWTON_LOG"))
+      std::cerr << fmt::format("t = {:.5g}: back to quasi-static after {} dynamic steps in all\n", t,
+                               dynamic_steps);
+  }
+
+  void RodModel::Impl::save_quasi_static(std::ostream &out) const
+  {
+    core::write_raw(out, static_cast<int>(dynamic_phase));
+    core::write_raw(out, pause_from);
+    core::write_raw(out, paused_total);
+    core::write_raw(out, calm_steps);
+    core::write_raw(out, snaps);
+    core::write_raw(out, dynamic_steps);
+    core::write_raw(out, stuck_snaps);
+    core::write_raw(out, last_snap_at);
+  }
+
+  void RodModel::Impl::load_quasi_static(std::istream &in)
+  {
+    const int phase = core::read_raw<int>(in);
+    const double from = core::read_raw<double>(in), total = core::read_raw<double>(in);
+    if ((phase != 0 && phase != 1) || (phase && !quasi_static_injection) || !std::isfinite(from) ||
+        !std::isfinite(total) || total < 0.0)
+      throw std::runtime_error("checkpoint holds an impossible quasi-static state");
+    if (phase)
+      {
+        // The integrator's settings of a dynamic phase; the state is the
+        // saved one.
+        const auto v_saved = v, a_saved = a;
+        const double dt_saved = dt;
+        enter_dynamics();
+        v = v_saved;
+        a = a_saved;
+        dt = dt_saved;
+      }
+    pause_from = from;
+    paused_total = total;
+    calm_steps = core::read_raw<unsigned long>(in);
+    snaps = core::read_raw<unsigned long>(in);
+    dynamic_steps = core::read_raw<unsigned long>(in);
+    stuck_snaps = core::read_raw<unsigned long>(in);
+    last_snap_at = core::read_raw<double>(in);
+    if (!std::isfinite(last_snap_at))
+      throw std::runtime_error("checkpoint holds an impossible quasi-static state");
   }
 } // namespace wirefem::fem
