@@ -123,7 +123,7 @@ namespace wirefem::fem
     /// Quasi-static injection: snaps handed to dynamics, and whether the
     /// model is in such a dynamic phase now.
     static unsigned long snaps(const RodModel &rod) { return rod.impl->snaps; }
-    static bool in_dynamic_phase(const RodModel &rod) { return rod.impl->dynamic_phase; }
+    static bool in_dynamic_phase(const RodModel &rod) { return rod.impl->dynamic_phase(); }
     /// Newton iterations (linear solves) of all attempts, cut ones included.
     static unsigned long newton_iterations(const RodModel &rod) { return rod.impl->newton_iterations; }
 

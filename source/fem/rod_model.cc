@@ -79,7 +79,7 @@ namespace wirefem::fem
           std::cerr << fmt::format("t = {:.5g}: step {:.3g} cut; residuals{}\n", m.t, step,
                                    m.residual_history());
         step *= 0.5;
-        if (m.quasi_static_injection && !m.dynamic_phase && step < m.scene.fem.minimum_time_step)
+        if (m.quasi_static_injection && !m.dynamic_phase() && step < m.scene.fem.minimum_time_step)
           {
             // A snap: no equilibrium near. Dynamics takes it.
             m.enter_dynamics();
@@ -101,7 +101,7 @@ namespace wirefem::fem
     const std::size_t iterations = m.history.size() - 1;
     const bool easy = iterations <= 3 || (m.modified_newton && m.step_tangents <= 2 && iterations <= 5);
     m.dt = easy ? std::min(m.dt_max, 1.5 * step) : step;
-    if (m.dynamic_phase)
+    if (m.dynamic_phase())
       {
         ++m.dynamic_steps;
         m.calm_steps = m.ledger.kinetic <= Impl::qs_calm * m.ledger.stored() ? m.calm_steps + 1 : 0;

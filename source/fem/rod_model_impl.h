@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <functional>
 #include <initializer_list>
+#include <optional>
 #include <cstdlib>
 #include <iostream>
 #include <cmath>
@@ -168,9 +169,8 @@ namespace wirefem::fem
     /// cut below FEM/Minimum time step) to generalized-alpha with
     /// the injection paused, until the kinetic energy has fallen below
     /// qs_calm of the stored one for qs_calm_steps steps in a row.
-    bool dynamic_phase = false;
-    double pause_from = -1.0;  ///< time the injection was paused at; -1: not paused
-    double paused_total = 0.0; ///< time spent paused before
+    std::optional<double> pause_from; ///< time the injection was paused at, in a dynamic phase
+    double paused_total = 0.0;        ///< time spent paused before
     unsigned long calm_steps = 0, snaps = 0, dynamic_steps = 0;
     /// Snaps in a row, each within a longest step's injection of the one
     /// before, and where the last one was (wire per channel); at
@@ -185,15 +185,16 @@ namespace wirefem::fem
     /// Generalized-alpha's parameters of the dynamic phases.
     double dyn_alpha_m = 0, dyn_alpha_f = 0, dyn_beta = 0.25, dyn_gamma = 0.5;
     /// The channels' clock: time less the paused time.
-    double injection_time(double time) const
-    {
-      return (pause_from >= 0.0 ? pause_from : time) - paused_total;
-    }
-    bool injecting() const { return pause_from < 0.0; }
+    double injection_time(double time) const { return pause_from.value_or(time) - paused_total; }
+    bool injecting() const { return !pause_from; }
+    bool dynamic_phase() const { return pause_from.has_value(); }
     /// Quasi-static injection: to generalized-alpha with the injection
     /// paused, and back.
     void enter_dynamics();
     void leave_dynamics();
+    /// The integrator's settings (inertia, generalized-alpha's parameters,
+    /// the longest step) of a dynamic phase or of quasi-static stepping.
+    void use_integrator(bool dynamic);
     /// The dynamic phase's state in the checkpoint (after the rest).
     void save_quasi_static(std::ostream &out) const;
     void load_quasi_static(std::istream &in);
@@ -398,9 +399,12 @@ namespace wirefem::fem
     double default_step(const scene::RodScene &s) const;
     /// The longest generalized-alpha step of the injection set-up.
     double dynamic_step(const scene::RodScene &s) const;
-    /// Generalized-alpha's parameters for FEM/Spectral radius, for the
-    /// dynamic phases of quasi-static injection and, when `now`, the run's.
-    void set_generalized_alpha(double rho, bool now);
+    /// Generalized-alpha's parameters for FEM/Spectral radius, kept for
+    /// the run and for the dynamic phases of quasi-static injection.
+    void set_generalized_alpha(double rho);
+    /// alpha_m, alpha_f, beta, gamma: generalized-alpha's, or the
+    /// trapezoidal rule's (implicit Euler without inertia).
+    void use_alpha(bool generalized);
     /// The seeded shape at rest, its initial acceleration and stored energy.
     void set_initial_state(const scene::RodScene &s);
     /// The injection's initial wire: the seeded shape across the cavity (or

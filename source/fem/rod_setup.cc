@@ -259,20 +259,21 @@ namespace wirefem::fem
     broad = contact::BroadPhase(diameter + pattern_margin, con.skin - pattern_margin, exclusion);
   }
 
-  void RodModel::Impl::set_generalized_alpha(const double rho, const bool now)
+  void RodModel::Impl::set_generalized_alpha(const double rho)
   {
     // Kept for the dynamic phases of quasi-static injection too.
     dyn_alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
     dyn_alpha_f = rho / (rho + 1.0);
     dyn_gamma = 0.5 - dyn_alpha_m + dyn_alpha_f;
     dyn_beta = 0.25 * (1.0 - dyn_alpha_m + dyn_alpha_f) * (1.0 - dyn_alpha_m + dyn_alpha_f);
-    if (now)
-      {
-        alpha_m = dyn_alpha_m;
-        alpha_f = dyn_alpha_f;
-        gamma = dyn_gamma;
-        beta = dyn_beta;
-      }
+  }
+
+  void RodModel::Impl::use_alpha(const bool generalized)
+  {
+    alpha_m = generalized ? dyn_alpha_m : 0.0;
+    alpha_f = generalized ? dyn_alpha_f : 0.0;
+    beta = generalized ? dyn_beta : 0.25;
+    gamma = generalized ? dyn_gamma : 0.5;
   }
 
   double RodModel::Impl::default_step(const scene::RodScene &s) const
@@ -325,7 +326,8 @@ namespace wirefem::fem
     if (inertia)
       effects.push_back("inertia");
 
-    set_generalized_alpha(s.fem.spectral_radius, integrator == scene::Integrator::generalized_alpha);
+    set_generalized_alpha(s.fem.spectral_radius);
+    use_alpha(integrator == scene::Integrator::generalized_alpha);
     dt_max = s.fem.time_step > 0 ? s.fem.time_step : default_step(s);
     qs_dt_max = dt_max;
 

@@ -99,7 +99,7 @@ namespace wirefem::fem
     // the longest step, not its rate, so that its regularisation does not
     // sharpen into a jump as steps are cut (Newton then stalls at the first
     // self contact).
-    if (quasi_static_injection && !dynamic_phase)
+    if (quasi_static_injection && !dynamic_phase())
       rq.friction_rate = step / dt_max;
     return rq;
   }
@@ -375,16 +375,10 @@ namespace wirefem::fem
           "equilibrium after each dynamic phase; FEM/Integrator = generalized-alpha runs this scene)",
           stuck_snaps, t));
     // From the last equilibrium, at rest, with the channels held.
-    dynamic_phase = true;
-    inertia = true;
-    alpha_m = dyn_alpha_m;
-    alpha_f = dyn_alpha_f;
-    beta = dyn_beta;
-    gamma = dyn_gamma;
+    use_integrator(true);
     v = 0.0;
     a = 0.0;
     pause_from = t;
-    dt_max = dynamic_dt_max;
     dt = dt_max;
     calm_steps = 0;
     ++snaps;
@@ -398,26 +392,28 @@ namespace wirefem::fem
     // ledger books it as damping.
     ledger.damping += ledger.kinetic;
     ledger.kinetic = 0.0;
-    dynamic_phase = false;
-    inertia = false;
-    alpha_m = alpha_f = 0.0;
-    beta = 0.25;
-    gamma = 0.5;
+    use_integrator(false);
     v = 0.0;
     a = 0.0;
-    paused_total += t - pause_from;
-    pause_from = -1.0;
-    dt_max = qs_dt_max;
+    paused_total += t - *pause_from;
+    pause_from.reset();
     dt = dt_max / 64.0;
     if (std::getenv("WIREFEM_NEWTON_LOG"))
       std::cerr << fmt::format("t = {:.5g}: back to quasi-static after {} dynamic steps in all\n", t,
                                dynamic_steps);
   }
 
+  void RodModel::Impl::use_integrator(const bool dynamic)
+  {
+    inertia = dynamic;
+    use_alpha(dynamic);
+    dt_max = dynamic ? dynamic_dt_max : qs_dt_max;
+  }
+
   void RodModel::Impl::save_quasi_static(std::ostream &out) const
   {
-    core::write_raw(out, static_cast<int>(dynamic_phase));
-    core::write_raw(out, pause_from);
+    core::write_raw(out, static_cast<int>(dynamic_phase()));
+    core::write_raw(out, pause_from.value_or(-1.0));
     core::write_raw(out, paused_total);
     core::write_raw(out, calm_steps);
     core::write_raw(out, snaps);
@@ -431,20 +427,13 @@ namespace wirefem::fem
     const int phase = core::read_raw<int>(in);
     const double from = core::read_raw<double>(in), total = core::read_raw<double>(in);
     if ((phase != 0 && phase != 1) || (phase && !quasi_static_injection) || !std::isfinite(from) ||
-        !std::isfinite(total) || total < 0.0)
+        !std::isfinite(total) || total < 0.0 || (phase && from < 0.0))
       throw std::runtime_error("checkpoint holds an impossible quasi-static state");
     if (phase)
       {
-        // The integrator's settings of a dynamic phase; the state is the
-        // saved one.
-        const auto v_saved = v, a_saved = a;
-        const double dt_saved = dt;
-        enter_dynamics();
-        v = v_saved;
-        a = a_saved;
-        dt = dt_saved;
+        use_integrator(true);
+        pause_from = from;
       }
-    pause_from = from;
     paused_total = total;
     calm_steps = core::read_raw<unsigned long>(in);
     snaps = core::read_raw<unsigned long>(in);
