@@ -4,7 +4,7 @@ namespace wirefem::fem
 {
   namespace
   {
-    constexpr std::uint64_t fem_magic = 0x77666d66656d3033ull; // "wfmfem03"
+    constexpr std::uint64_t fem_magic = 0x77666d66656d3034ull; // "wfmfem04"
     // Written byte for byte into the checkpoint: no padding.
     static_assert(sizeof(core::StepReport) == sizeof(double) + 2 * sizeof(int), "StepReport has padding");
   } // namespace
@@ -305,7 +305,7 @@ namespace wirefem::fem
     const auto &m = *impl;
     core::write_raw(out, fem_magic);
     core::write_raw(out, static_cast<std::uint64_t>(m.u.size()));
-    for (const auto *x : {&m.u, &m.v, &m.a, &m.f_old})
+    for (const auto *x : {&m.u, &m.v, &m.a, &m.f_old, &m.dissipative_old, &m.friction_old})
       write_dealii_vector(out, *x);
     core::write_vector(out, m.qp, 0, m.qp.size());
     core::write_raw(out, m.t);
@@ -339,7 +339,7 @@ namespace wirefem::fem
       throw std::runtime_error("not a checkpoint of the FEM model");
     if (core::read_raw<std::uint64_t>(in) != m.u.size())
       throw std::runtime_error("checkpoint does not fit this scene");
-    for (auto *x : {&m.u, &m.v, &m.a, &m.f_old})
+    for (auto *x : {&m.u, &m.v, &m.a, &m.f_old, &m.dissipative_old, &m.friction_old})
       read_dealii_vector(in, *x);
     if (core::peek_vector_size(in) != m.qp.size())
       throw std::runtime_error("checkpoint does not fit this scene");

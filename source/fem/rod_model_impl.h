@@ -201,6 +201,8 @@ namespace wirefem::fem
 
     // State at t_n.
     dealii::Vector<double> u, v, a, f_old;
+    /// Quasi-static steps: the dissipative and friction forces at t_n.
+    dealii::Vector<double> dissipative_old, friction_old;
     std::vector<PointState> qp;
     double t = 0, dt = 0, dt_max = 0;
     unsigned long steps = 0, cuts = 0;
@@ -529,6 +531,9 @@ namespace wirefem::fem
         }
       return ek;
     }
+    /// The channels' work over a step into `work` (left, right).
+    void channel_work(const dealii::Vector<double> &u1, const Evaluation &e, int work_first, int work_last,
+                      bool trapezoid, double (&work)[2]) const;
     /// Accepts the step. The channel work is summed over the prescribed dofs
     /// of the free range [work_first, work_last) (the range the step was
     /// solved with).

@@ -417,6 +417,8 @@ namespace wirefem::fem
     v.reinit(n_dofs);
     a.reinit(n_dofs);
     f_old.reinit(n_dofs);
+    dissipative_old.reinit(n_dofs);
+    friction_old.reinit(n_dofs);
     qp.assign(n_cells * stiffness_shape.n_q, PointState{});
     free_range(0.0, first_free, last_free);
     wall_time = 0.0;
@@ -465,6 +467,8 @@ namespace wirefem::fem
         qp = e.state;
       }
     ledger.initial = e.axial + e.shear + e.bending;
+    dissipative_old = e.dissipative;
+    friction_old = e.friction;
   }
 
   void RodModel::Impl::nodes_between(const double sl, const double sr, int &first, int &last) const
