@@ -1263,6 +1263,26 @@ namespace
     EXPECT_LT(std::abs(e.balance_error()), 0.01) << "in " << e.initial + e.injection_work;
   }
 
+  TEST(RodModel, AStepThatConvergesOnItsLastAllowedIterationIsTaken)
+  {
+    // The first step takes k Newton iterations; with Maximum iterations =
+    // k it must be taken as it is, not cut (the residual after the last
+    // solve is checked too), and with k - 1 it is cut.
+    fem::RodModel free_run(contact_scene("FEM/Maximum iterations=50"));
+    free_run.step();
+    ASSERT_EQ(free_run.n_step_cuts(), 0u);
+    const unsigned long k = fem::RodModelProbe::newton_iterations(free_run);
+    ASSERT_GE(k, 2u);
+    fem::RodModel exact(contact_scene(fmt::format("FEM/Maximum iterations={}", k)));
+    exact.step();
+    EXPECT_EQ(exact.n_step_cuts(), 0u);
+    EXPECT_EQ(fem::RodModelProbe::newton_iterations(exact), k);
+    EXPECT_EQ(exact.time(), free_run.time());
+    fem::RodModel short_of_it(contact_scene(fmt::format("FEM/Maximum iterations={}", k - 1)));
+    short_of_it.step();
+    EXPECT_GT(short_of_it.n_step_cuts(), 0u);
+  }
+
   TEST(RodModel, StatisticsCountTheSolversWork)
   {
     // What summary.json records as solver_statistics on the injection

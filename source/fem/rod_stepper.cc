@@ -247,7 +247,9 @@ namespace wirefem::fem
       }
     double res = residual_norm(e);
     history.push_back(res);
-    for (unsigned int it = 0; it < scene.fem.maximum_iterations; ++it)
+    // Up to Maximum iterations solves; the residual after the last is
+    // checked too.
+    for (unsigned int it = 0; it <= scene.fem.maximum_iterations; ++it)
       {
         if (res <= tol)
           {
@@ -261,7 +263,7 @@ namespace wirefem::fem
             commit(step, first, last, u1, x.v1, x.a1, e, first, last);
             return StepOutcome::converged;
           }
-        if (!std::isfinite(res))
+        if (!std::isfinite(res) || it == scene.fem.maximum_iterations)
           return StepOutcome::not_converged;
         newton_rhs(e, rq, rhs);
         {
