@@ -8,46 +8,58 @@
 # Example: scripts/models-back-to-back.sh prm/quick.prm --set Cavity/Radius=20 \
 #            --set "Injection/Maximum packing density=0.35"
 # Environment: WIREFEM (default ./build/wirefem), OUT (default
-# output/back-to-back), REPEAT (default 3).
+# output/back-to-back), REPEAT (default 3); SEEDS (e.g. "1 2 3": run r
+# uses the r-th seed, REPEAT = their number); DISCRETE_SET and FEM_SET,
+# --set arguments for one model only, e.g.
+#   DISCRETE_SET="Injection/Speed=0.03" FEM_SET="FEM/Integrator=quasi-static"
+# (word-split: no spaces inside a key=value).
 set -u
 exe=${WIREFEM:-./build/wirefem}
 [ $# -ge 1 ] || { echo "usage: $0 SCENE.prm [--set Key=value ...]" >&2; exit 2; }
 scene=$1; shift
 out=${OUT:-output/back-to-back}
+seeds=(${SEEDS:-})
 repeat=${REPEAT:-3}
+[ ${#seeds[@]} -eq 0 ] || repeat=${#seeds[@]}
 mkdir -p "$out"
 for r in $(seq 1 "$repeat"); do
   for model in discrete fem; do
     dir="$out/${model}_$r"
-    "$exe" "$scene" "$@" --set Model=$model --replace --set Output/Directory="$dir" --set Output/Progress=off \
-      --set "Output/VTU interval=0" > "$dir.log" 2>&1
+    extra=()
+    [ ${#seeds[@]} -eq 0 ] || extra+=(--set "Injection/Seed=${seeds[$((r - 1))]}")
+    if [ $model = discrete ]; then sets=(${DISCRETE_SET:-}); else sets=(${FEM_SET:-}); fi
+    for kv in "${sets[@]}"; do extra+=(--set "$kv"); done
+    "$exe" "$scene" "$@" "${extra[@]}" --set Model=$model --replace --set Output/Directory="$dir" \
+      --set Output/Progress=off --set "Output/VTU interval=0" > "$dir.log" 2>&1
     echo "$?" > "$dir.rc"
   done
 done
 python3 - "$out" "$repeat" <<'PY'
 import json, statistics, sys
 out, repeat = sys.argv[1], int(sys.argv[2])
-print("| model | exit | stop | phi | loops | balance error | max overlap (d) | steps | median wall (s) |")
-print("|---|---|---|---|---|---|---|---|---|")
-median = {}
+print("| model | run | exit | stop | phi | loops | balance error | max overlap (d) | steps | wall (s) |")
+print("|---|---|---|---|---|---|---|---|---|---|")
+median, phis = {}, {}
 for model in ("discrete", "fem"):
-    walls, last = [], None
-    codes = []
+    walls = []
     for r in range(1, repeat + 1):
-        codes.append(open(f"{out}/{model}_{r}.rc").read().strip())
+        code = open(f"{out}/{model}_{r}.rc").read().strip()
         try:
             s = json.load(open(f"{out}/{model}_{r}/summary.json"))
         except (OSError, ValueError):
+            print(f"| {model} | {r} | {code} | no summary | | | | | | |")
             continue
         walls.append(s["wall_time_s"])
-        last = s
-    if last is None:
-        print(f"| {model} | {','.join(codes)} | no summary | | | | | | |")
-        continue
-    median[model] = statistics.median(walls)
-    print(f"| {model} | {','.join(sorted(set(codes)))} | {last['stop_reason']} | {last['phi_final']:.4f} | "
-          f"{last['loops']} | {last['energy']['balance_error']:.2e} | {last['max_penetration']:.4f} | "
-          f"{last['steps']} | {median[model]:.2f} |")
+        phis.setdefault(model, []).append(s["phi_final"])
+        print(f"| {model} | {r} | {code} | {s['stop_reason']} | {s['phi_final']:.4f} | "
+              f"{s['loops']} | {s['energy']['balance_error']:.2e} | {s['max_penetration']:.4f} | "
+              f"{s['steps']} | {s['wall_time_s']:.2f} |")
+    if walls:
+        median[model] = statistics.median(walls)
+print()
+for model, p in phis.items():
+    spread = f" +- {statistics.stdev(p):.3f} (sd of {len(p)})" if len(p) > 1 else ""
+    print(f"{model}: phi {statistics.mean(p):.3f}{spread}, median wall {median[model]:.2f} s")
 if len(median) == 2 and median["discrete"] > 0:
-    print(f"\nFEM / chain wall time: {median['fem'] / median['discrete']:.1f} (medians of {repeat})")
+    print(f"FEM / chain wall time: {median['fem'] / median['discrete']:.2f} (medians of {repeat})")
 PY

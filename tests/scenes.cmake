@@ -227,12 +227,17 @@ set_tests_properties(scripts.morphology_scan PROPERTIES LABELS regression PROCES
 # scripts/models-back-to-back.sh: both models on one small scene, a row each
 # and the ratio of their wall times.
 add_test(NAME scripts.models_back_to_back
-         COMMAND ${CMAKE_COMMAND} -E env WIREFEM=${WIREFEM_EXE} OUT=${SCENE_OUT}/back_to_back REPEAT=1
+         COMMAND ${CMAKE_COMMAND} -E env WIREFEM=${WIREFEM_EXE} OUT=${SCENE_OUT}/back_to_back "SEEDS=1 2"
+                 FEM_SET=FEM/Integrator=quasi-static
                  bash ${CMAKE_SOURCE_DIR}/scripts/models-back-to-back.sh ${CMAKE_SOURCE_DIR}/prm/quick.prm
                  --set Cavity/Radius=6 "--set=Injection/Maximum packing density=0.2")
 set_tests_properties(scripts.models_back_to_back PROPERTIES LABELS regression
-                     PASS_REGULAR_EXPRESSION "\\| discrete \\| 0 \\| [^\n]*\n\\| fem \\| 0 \\| [^\n]*\n\nFEM / chain wall time: [0-9.]+"
+                     PASS_REGULAR_EXPRESSION "\\| discrete \\| 2 \\| 0 \\| [^\n]*\n\\| fem \\| 1 \\| 0 \\| [^\n]*\n\\| fem \\| 2 \\| 0 \\| [^\n]*\n\n.*FEM / chain wall time: [0-9.]+ \\(medians of 2\\)"
                      FAIL_REGULAR_EXPRESSION "no summary")
+# ... and FEM_SET reached the FEM's runs only.
+add_test(NAME scripts.models_back_to_back_sets
+         COMMAND bash -c "grep -q 'quasi-static, dt' '${SCENE_OUT}/back_to_back/fem_2.log' && ! grep -q 'quasi-static' '${SCENE_OUT}/back_to_back/discrete_2.log'")
+set_tests_properties(scripts.models_back_to_back_sets PROPERTIES LABELS regression DEPENDS scripts.models_back_to_back)
 # ... and its overrides reached the run: plasticity is active in the default
 # case only.
 add_test(NAME scripts.morphology_scan_overrides

@@ -15,7 +15,8 @@ The studies (analysis.STUDIES; run directories OUTDIR/<study>_s<seed>):
   elastic scene under the spring law about 20); the elastic classic scene
   at f = 50 (3 seeds, about 4 minutes a run);
 - both classic scenes in the quasi-static limit (Injection/Speed = 0.01,
-  9 seeds each; about 25 and 40 minutes a run);
+  9 seeds each; about 25 and 40 minutes a run), and from the FEM with
+  FEM/Integrator = quasi-static (3 seeds each);
 - gamma of prm/classic.prm at f = 50 (3 seeds) and of prm/plastic.prm at
   f = 100 (one run, about 3 hours);
 - the spiral (prm/spiral.prm at f = 25, 3 seeds, run to phi = 1);
