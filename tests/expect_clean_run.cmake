@@ -1,11 +1,12 @@
 # Runs EXE PRM --set SETTING [--set MODEL] and expects exit 0 and summary.json
 # "failed": false. MODEL (optional) is a second setting, such as Model=fem,
-# EXTRA (optional) a list of more; JAMMED=ON also asks for "jammed": true,
+# EXTRA (optional) a list of more (separated by ; or |); JAMMED=ON also asks for "jammed": true,
 # MIN_PHI=x for phi_final >= x, MORPHOLOGY=name for that morphology at the end.
 set(extra)
 if(MODEL)
   set(extra --set ${MODEL})
 endif()
+string(REPLACE "|" ";" EXTRA "${EXTRA}")
 foreach(setting ${EXTRA})
   list(APPEND extra --set ${setting})
 endforeach()

@@ -981,6 +981,65 @@ namespace
     EXPECT_TRUE(resumed) << "never back to quasi-static steps";
   }
 
+  TEST(RodModel, ASnapWhereTheLastOneWasPushesOnBeforeItPauses)
+  {
+    // A snap that comes back where the last one was first injects
+    // qs_push (0.25 d per channel) at the scene's speed, then holds the
+    // channels until the wire is calm, and quasi-static steps go on.
+    fem::RodModel m(snapping_scene());
+    while (m.injected_length() < 20.0)
+      m.step();
+    ASSERT_FALSE(fem::RodModelProbe::in_dynamic_phase(m));
+    const double start = m.injected_length();
+    fem::RodModelProbe::snap_again(m);
+    EXPECT_EQ(fem::RodModelProbe::pushes(m), 1u);
+    double pushed = start;
+    const double cap = fem::RodModelProbe::step_cap(m); // the dynamic phase's longest step
+    bool held = true, paused = false;
+    while (fem::RodModelProbe::in_dynamic_phase(m))
+      {
+        const double before = m.injected_length();
+        m.step();
+        if (paused && fem::RodModelProbe::in_dynamic_phase(m))
+          held = held && m.injected_length() == before;
+        if (!paused && m.injected_length() == before)
+          paused = true;
+        pushed = std::max(pushed, m.injected_length());
+      }
+    // Two channels, 0.25 d each, reached within one dynamic step (speed 1).
+    EXPECT_GE(pushed - start, 0.5);
+    EXPECT_LE(pushed - start, 0.5 + 2.0 * cap + 1e-9);
+    EXPECT_TRUE(paused);
+    EXPECT_TRUE(held) << "the injection moved after the push";
+    const double back = m.injected_length();
+    m.step();
+    EXPECT_GT(m.injected_length(), back) << "no quasi-static step after the phase";
+  }
+
+  TEST(RodModel, APushingPhaseSavesAndLoadsBitForBit)
+  {
+    const auto s = snapping_scene();
+    fem::RodModel straight(s), resumed(s);
+    while (straight.injected_length() < 20.0)
+      straight.step();
+    fem::RodModelProbe::snap_again(straight);
+    for (int i = 0; i < 4; ++i)
+      straight.step();
+    std::stringstream buffer;
+    straight.save(buffer);
+    resumed.load(buffer);
+    for (int i = 0; i < 300; ++i)
+      {
+        straight.step();
+        resumed.step();
+      }
+    EXPECT_EQ(straight.time(), resumed.time());
+    EXPECT_EQ(straight.injected_length(), resumed.injected_length());
+    EXPECT_GT(straight.injected_length(), 20.5);
+    EXPECT_EQ(largest_distance(straight, resumed), 0.0);
+    EXPECT_EQ(straight.energies().kinetic, resumed.energies().kinetic);
+  }
+
   TEST(RodModel, ADynamicPhaseSavesAndLoadsBitForBit)
   {
     const auto s = snapping_scene();

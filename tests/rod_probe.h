@@ -123,6 +123,14 @@ namespace wirefem::fem
     /// Quasi-static injection: snaps handed to dynamics, and whether the
     /// model is in such a dynamic phase now.
     static unsigned long snaps(const RodModel &rod) { return rod.impl->snaps; }
+    static unsigned long pushes(const RodModel &rod) { return rod.impl->pushes; }
+    /// A snap where the last one was, as if quasi-static Newton had failed
+    /// again at the same place (from a quasi-static step).
+    static void snap_again(RodModel &rod)
+    {
+      rod.impl->last_snap_at = rod.impl->injected_at(rod.impl->t);
+      rod.impl->enter_dynamics();
+    }
     static bool in_dynamic_phase(const RodModel &rod) { return rod.impl->dynamic_phase(); }
     /// Newton iterations (linear solves) of all attempts, cut ones included.
     static unsigned long newton_iterations(const RodModel &rod) { return rod.impl->newton_iterations; }

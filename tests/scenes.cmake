@@ -174,6 +174,26 @@ foreach(scene_f classic:15 plastic:15 classic:25)
                    -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
   set_tests_properties(scene.fem_${scene}_f${f}_jams PROPERTIES LABELS stress TIMEOUT 3600)
 endforeach()
+# The quasi-static FEM on the classic scene jams with its ledger closed to
+# 1% (an open ledger exits 3): at f = 15 (about 20 s, in the default run)
+# and f = 25 (3-4 min, phi 0.409-0.415 over seeds 1-3).
+foreach(f 15 25)
+  add_test(NAME scene.fem_quasi_static_classic_f${f}_jams
+           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
+                   -DSETTING=Cavity/Radius=${f} -DMODEL=Model=fem -DEXTRA=FEM/Integrator=quasi-static -DJAMMED=ON
+                   -DOUT=${SCENE_OUT}/fem_quasi_static_classic_f${f} -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+endforeach()
+set_tests_properties(scene.fem_quasi_static_classic_f15_jams PROPERTIES LABELS "regression;stress" TIMEOUT 600)
+set_tests_properties(scene.fem_quasi_static_classic_f25_jams PROPERTIES LABELS stress TIMEOUT 3600)
+# The Fig. 5 scene (kappa_theta 0.08, s 0.05): quasi-static Newton met a
+# point it could not pass at phi 0.097 (50 snaps in a row there) until a
+# snap where the last one was pushes on (about 7 min).
+add_test(NAME scene.fem_quasi_static_fig5_f25_jams
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
+                 -DSETTING=Cavity/Radius=25 -DMODEL=Model=fem
+                 "-DEXTRA=FEM/Integrator=quasi-static|Wire/Plasticity/Yield curvature=0.08|Wire/Plasticity/Hardening slope=0.05"
+                 -DJAMMED=ON -DOUT=${SCENE_OUT}/fem_quasi_static_fig5_f25 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+set_tests_properties(scene.fem_quasi_static_fig5_f25_jams PROPERTIES LABELS stress TIMEOUT 3600)
 # The elastic wire at mu_st = 5, f = 15: the chain reaches phi_max 0.6 with
 # 16-17 loops (seeds 1-3), the FEM with the chain's wall friction too (seed
 # 1); with the regularised wall friction the FEM jammed at 0.139 (about

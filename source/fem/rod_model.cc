@@ -102,12 +102,7 @@ namespace wirefem::fem
     const bool easy = iterations <= 3 || (m.modified_newton && m.step_tangents <= 2 && iterations <= 5);
     m.dt = easy ? std::min(m.dt_max, 1.5 * step) : step;
     if (m.dynamic_phase())
-      {
-        ++m.dynamic_steps;
-        m.calm_steps = m.ledger.kinetic <= Impl::qs_calm * m.ledger.stored() ? m.calm_steps + 1 : 0;
-        if (m.calm_steps >= Impl::qs_calm_steps)
-          m.leave_dynamics();
-      }
+      m.after_dynamic_step();
   }
 
   double RodModel::time() const
@@ -396,8 +391,8 @@ namespace wirefem::fem
     impl->timer.print_summary(out);
     out << fmt::format("Newton step cuts: {}\n", impl->cuts);
     if (impl->quasi_static_injection)
-      out << fmt::format("quasi-static snaps taken by dynamics: {} ({} dynamic steps)\n", impl->snaps,
-                         impl->dynamic_steps);
+      out << fmt::format("quasi-static snaps taken by dynamics: {} ({} pushing first; {} dynamic steps)\n",
+                         impl->snaps, impl->pushes, impl->dynamic_steps);
     if (impl->overlap_growth > 0)
       out << fmt::format("steps cut for overlap growth (FEM/Overlap growth): {}\n", impl->overlap_cuts);
     const auto &ls = impl->lu.statistics();

@@ -168,17 +168,17 @@ namespace wirefem::fem
     /// Quasi-static injection hands a snap (a step Newton cannot take even
     /// cut below FEM/Minimum time step) to generalized-alpha with
     /// the injection paused, until the kinetic energy has fallen below
-    /// qs_calm of the stored one for qs_calm_steps steps in a row.
+    /// qs_calm of the stored one for qs_calm_steps steps in a row. A snap
+    /// that comes back where the last one was (within a longest step's
+    /// injection) is no instability but a point quasi-static Newton cannot
+    /// pass: that phase first injects qs_push of wire per channel at the
+    /// scene's speed, then pauses.
     std::optional<double> pause_from; ///< time the injection was paused at, in a dynamic phase
+    std::optional<double> push_to;    ///< wire per channel a pushing phase injects to
     double paused_total = 0.0;        ///< time spent paused before
-    unsigned long calm_steps = 0, snaps = 0, dynamic_steps = 0;
-    /// Snaps in a row, each within a longest step's injection of the one
-    /// before, and where the last one was (wire per channel); at
-    /// qs_stuck_snaps the run stops: the quasi-static problem has no
-    /// solution there.
-    unsigned long stuck_snaps = 0;
-    double last_snap_at = -1.0;
-    static constexpr unsigned long qs_stuck_snaps = 50;
+    unsigned long calm_steps = 0, snaps = 0, dynamic_steps = 0, pushes = 0;
+    double last_snap_at = -1.0;             ///< wire per channel at the last snap
+    static constexpr double qs_push = 0.25; ///< d
     double qs_dt_max = 0, dynamic_dt_max = 0;
     static constexpr double qs_calm = 1e-4;
     static constexpr unsigned long qs_calm_steps = 10;
@@ -187,10 +187,12 @@ namespace wirefem::fem
     /// The channels' clock: time less the paused time.
     double injection_time(double time) const { return pause_from.value_or(time) - paused_total; }
     bool injecting() const { return !pause_from; }
-    bool dynamic_phase() const { return pause_from.has_value(); }
+    bool dynamic_phase() const { return pause_from.has_value() || push_to.has_value(); }
     /// Quasi-static injection: to generalized-alpha with the injection
-    /// paused, and back.
+    /// paused (or pushing first), and back.
     void enter_dynamics();
+    /// After a dynamic step: the end of a push, a calm wire.
+    void after_dynamic_step();
     void leave_dynamics();
     /// The integrator's settings (inertia, generalized-alpha's parameters,
     /// the longest step) of a dynamic phase or of quasi-static stepping.

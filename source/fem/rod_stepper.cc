@@ -398,23 +398,39 @@ namespace wirefem::fem
   void RodModel::Impl::enter_dynamics()
   {
     const double at = injected_at(t);
-    stuck_snaps = last_snap_at >= 0.0 && at - last_snap_at < 0.025 * diameter ? stuck_snaps + 1 : 0;
+    const bool again = last_snap_at >= 0.0 && at - last_snap_at < 0.025 * diameter;
     last_snap_at = at;
-    if (stuck_snaps >= qs_stuck_snaps)
-      throw std::runtime_error(fmt::format(
-          "quasi-static injection made no progress through {} snaps in a row at t = {:.6g} (Newton finds no "
-          "equilibrium after each dynamic phase; FEM/Integrator = generalized-alpha runs this scene)",
-          stuck_snaps, t));
-    // From the last equilibrium, at rest, with the channels held.
+    // From the last equilibrium, at rest; the channels held, or (a snap
+    // where the last one was) pushing first.
     use_integrator(true);
     v = 0.0;
     a = 0.0;
-    pause_from = t;
+    if (again)
+      {
+        push_to = at + qs_push * diameter;
+        ++pushes;
+      }
+    else
+      pause_from = t;
     dt = dt_max;
     calm_steps = 0;
     ++snaps;
     if (std::getenv("WIREFEM_NEWTON_LOG"))
-      std::cerr << fmt::format("t = {:.5g}: a snap; generalized-alpha with the injection paused\n", t);
+      std::cerr << fmt::format("t = {:.5g}: a snap; generalized-alpha, {}\n", t,
+                               again ? "pushing first" : "the injection paused");
+  }
+
+  void RodModel::Impl::after_dynamic_step()
+  {
+    ++dynamic_steps;
+    if (push_to && injected_at(t) >= *push_to)
+      {
+        push_to.reset();
+        pause_from = t;
+      }
+    calm_steps = pause_from && ledger.kinetic <= qs_calm * ledger.stored() ? calm_steps + 1 : 0;
+    if (calm_steps >= qs_calm_steps)
+      leave_dynamics();
   }
 
   void RodModel::Impl::leave_dynamics()
@@ -443,33 +459,35 @@ namespace wirefem::fem
 
   void RodModel::Impl::save_quasi_static(std::ostream &out) const
   {
-    core::write_raw(out, static_cast<int>(dynamic_phase()));
-    core::write_raw(out, pause_from.value_or(-1.0));
+    core::write_raw(out, static_cast<int>(pause_from ? 1 : push_to ? 2 : 0));
+    core::write_raw(out, pause_from.value_or(push_to.value_or(-1.0)));
     core::write_raw(out, paused_total);
     core::write_raw(out, calm_steps);
     core::write_raw(out, snaps);
     core::write_raw(out, dynamic_steps);
-    core::write_raw(out, stuck_snaps);
+    core::write_raw(out, pushes);
     core::write_raw(out, last_snap_at);
   }
 
   void RodModel::Impl::load_quasi_static(std::istream &in)
   {
+    // Phase 0: quasi-static; 1: paused since `at`; 2: pushing to `at`.
     const int phase = core::read_raw<int>(in);
-    const double from = core::read_raw<double>(in), total = core::read_raw<double>(in);
-    if ((phase != 0 && phase != 1) || (phase && !quasi_static_injection) || !std::isfinite(from) ||
-        !std::isfinite(total) || total < 0.0 || (phase && from < 0.0))
+    const double at = core::read_raw<double>(in), total = core::read_raw<double>(in);
+    if (phase < 0 || phase > 2 || (phase && !quasi_static_injection) || !std::isfinite(at) ||
+        !std::isfinite(total) || total < 0.0 || (phase && at < 0.0))
       throw std::runtime_error("checkpoint holds an impossible quasi-static state");
     if (phase)
-      {
-        use_integrator(true);
-        pause_from = from;
-      }
+      use_integrator(true);
+    if (phase == 1)
+      pause_from = at;
+    if (phase == 2)
+      push_to = at;
     paused_total = total;
     calm_steps = core::read_raw<unsigned long>(in);
     snaps = core::read_raw<unsigned long>(in);
     dynamic_steps = core::read_raw<unsigned long>(in);
-    stuck_snaps = core::read_raw<unsigned long>(in);
+    pushes = core::read_raw<unsigned long>(in);
     last_snap_at = core::read_raw<double>(in);
     if (!std::isfinite(last_snap_at))
       throw std::runtime_error("checkpoint holds an impossible quasi-static state");
