@@ -169,8 +169,8 @@ namespace wirefem::fem
     /// cut below FEM/Minimum time step) to generalized-alpha with
     /// the injection paused, until the kinetic energy has fallen below
     /// qs_calm of the stored one for qs_calm_steps steps in a row. A snap
-    /// that comes back where the last one was (within a longest step's
-    /// injection) is no instability but a point quasi-static Newton cannot
+    /// that comes back where the last one was (within 0.025 d of injection,
+    /// the default longest step) is no instability but a point quasi-static Newton cannot
     /// pass: that phase first injects qs_push of wire per channel at the
     /// scene's speed, then pauses.
     std::optional<double> pause_from; ///< time the injection was paused at, in a dynamic phase

@@ -21,8 +21,8 @@ The studies (analysis.STUDIES; run directories OUTDIR/<study>_s<seed>):
   f = 100 (one run, about 3 hours);
 - the spiral (prm/spiral.prm at f = 25, 3 seeds, run to phi = 1);
 - the phase diagram at f = 50 (prm/phase_diagram_f50.prm, 147 runs, about
-  8 core-hours; with --jobs N > 1 it runs under mpirun -np N) into
-  OUTDIR/output/phase_diagram_f50, checked by phase.py.
+  25 core-hours, 10-30 minutes a run; with --jobs N > 1 it runs under
+  mpirun -np N) into OUTDIR/output/phase_diagram_f50, checked by phase.py.
 
 Each scene is the prm file named in analysis.SCENES (prm/classic.prm
 unless named) with
