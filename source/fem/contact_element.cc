@@ -396,7 +396,6 @@ namespace wirefem::fem
                        const Vec2 *v0, const double c, ContactContribution &out, double &t_out,
                        const double friction_scale)
     {
-      const int nd = start_contribution(out, n);
       const ClosestParameter cp = closest_parameter(n, x);
       const Vec2 e = cp.e;
       const double t = cp.t;
@@ -406,7 +405,13 @@ namespace wirefem::fem
       const Vec2 d = x[0] - q;
       const double dist = norm(d);
       if (dist >= s.diameter)
-        return false;
+        {
+          // Most candidates do not touch: no need to clear the rest.
+          out.n_points = n;
+          out.overlap = 0.0;
+          return false;
+        }
+      const int nd = start_contribution(out, n);
       out.overlap = s.diameter - dist;
       if (dist < 1e-12 * s.diameter)
         return false;

@@ -66,9 +66,11 @@ namespace wirefem::core
   {
     return {-a.y, a.x};
   }
+  /// |a|; plain sqrt, not std::hypot: no coordinate here is near
+  /// overflow, and hypot costs several times as much.
   inline double norm(const Vec2 &a)
   {
-    return std::hypot(a.x, a.y);
+    return std::sqrt(a.x * a.x + a.y * a.y);
   }
   constexpr double norm_square(const Vec2 &a)
   {
