@@ -398,6 +398,32 @@ namespace
     EXPECT_FALSE(bp.update(y, first + 1, first + n - 1));
   }
 
+  TEST(BroadPhase, CoversWhatUpdateWouldKeep)
+  {
+    // covers() says, without rebuilding, whether update() would keep the
+    // list: never before a build or for another range, and only while
+    // every active node is within skin/2 of where the list was built.
+    const int first = 3, n = 400, last = first + n;
+    const double skin = 0.3;
+    const auto x = random_wire(11, first, n, 16.0);
+    BroadPhase bp(1.0, skin, 2);
+    EXPECT_FALSE(bp.covers(x, first, last));
+    ASSERT_TRUE(bp.update(x, first, last));
+    EXPECT_TRUE(bp.covers(x, first, last));
+    EXPECT_FALSE(bp.covers(x, first + 1, last));
+    EXPECT_FALSE(bp.covers(x, first, last - 1));
+    auto y = x;
+    y[first + n / 2] += Vec2{0.0, 0.49 * skin};
+    EXPECT_TRUE(bp.covers(y, first, last));
+    y[first + n / 2] += Vec2{0.0, 0.02 * skin};
+    EXPECT_FALSE(bp.covers(y, first, last));
+    EXPECT_EQ(bp.n_rebuilds(), 1u); // covers() never rebuilds
+    EXPECT_TRUE(bp.update(y, first, last));
+    EXPECT_TRUE(bp.covers(y, first, last));
+    bp.invalidate();
+    EXPECT_FALSE(bp.covers(y, first, last));
+  }
+
   TEST(BroadPhase, TooShortWires)
   {
     const auto x = random_wire(11, 2, 6, 3.0);

@@ -1,7 +1,8 @@
 # Runs EXE PRM --set SETTING [--set MODEL] and expects exit 0 and summary.json
 # "failed": false. MODEL (optional) is a second setting, such as Model=fem,
 # EXTRA (optional) a list of more (separated by ; or |); JAMMED=ON also asks for "jammed": true,
-# MIN_PHI=x for phi_final >= x, MORPHOLOGY=name for that morphology at the end.
+# MIN_PHI=x for phi_final >= x, MORPHOLOGY=name for that morphology at the end,
+# MAX_OVERLAP=x for a largest contact overlap of at most x d.
 set(extra)
 if(MODEL)
   set(extra --set ${MODEL})
@@ -29,11 +30,18 @@ if(JAMMED)
     message(FATAL_ERROR "the run did not jam: ${summary}")
   endif()
 endif()
-if(MIN_PHI)
-  string(JSON phi GET "${summary}" phi_final)
-  if(phi LESS MIN_PHI)
-    message(FATAL_ERROR "the run ended at phi ${phi}, below ${MIN_PHI}: ${summary}")
+# Fails when the summary's KEY compares to LIMIT by OP (LESS, GREATER).
+function(refuse key op limit what)
+  string(JSON value GET "${summary}" ${key})
+  if(value ${op} limit)
+    message(FATAL_ERROR "${what} ${value} is beyond ${limit}: ${summary}")
   endif()
+endfunction()
+if(MIN_PHI)
+  refuse(phi_final LESS ${MIN_PHI} "phi at the end")
+endif()
+if(MAX_OVERLAP)
+  refuse(max_penetration GREATER ${MAX_OVERLAP} "the largest overlap (d)")
 endif()
 if(MORPHOLOGY)
   string(JSON morphology GET "${summary}" morphology)

@@ -204,6 +204,19 @@ add_test(NAME scene.fem_elastic_f15_packs_as_the_chain
                  -DOUT=${SCENE_OUT}/fem_elastic_f15 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
 set_tests_properties(scene.fem_elastic_f15_packs_as_the_chain PROPERTIES LABELS stress TIMEOUT 1800)
 
+# The quasi-static FEM on the elastic wire without wire-wire friction (the
+# wall's mu_st 5): a converged step jumped to an equilibrium with one wire
+# through another (overlap 0.67 d at phi 0.117), past the contact
+# candidates Newton saw. Such a step is now cut, and the run packs to
+# phi_max (about 45 s).
+add_test(NAME scene.fem_quasi_static_no_wire_friction_packs
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
+                 -DSETTING=Cavity/Radius=15 -DMODEL=Model=fem
+                 "-DEXTRA=FEM/Integrator=quasi-static|Wire/Plasticity/Enabled=false|Contact/Friction/Static coefficient=0|Contact/Friction/Wall static coefficient=5"
+                 -DMIN_PHI=0.59 -DMAX_OVERLAP=0.1 -DOUT=${SCENE_OUT}/fem_quasi_static_no_wire_friction
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+set_tests_properties(scene.fem_quasi_static_no_wire_friction_packs PROPERTIES LABELS regression TIMEOUT 900)
+
 # prm/classic_cascades.prm, this model's classic morphology at f = 100,
 # ends classic (seeds 1 and 3 do, 2 ends plastic; about 7 min).
 add_test(NAME scene.classic_cascades_is_classic

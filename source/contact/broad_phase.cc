@@ -37,18 +37,24 @@ namespace wirefem::contact
     assert(0 <= first_node && first_node <= last_node);
     assert(static_cast<std::size_t>(last_node) <= x.size());
 
-    bool needed = !valid || first_node != built_first || last_node != built_last;
+    const bool needed = !covers(x, first_node, last_node);
+    if (needed)
+      rebuild(x, first_node, last_node);
+    return needed;
+  }
 
+  bool BroadPhase::covers(const std::vector<core::Vec2> &x, const int first_node, const int last_node) const
+  {
+    if (!valid || first_node != built_first || last_node != built_last)
+      return false;
     // Each node within skin/2 of its position at the last rebuild means any two
     // points of two segments approached each other by at most skin, so every
     // pair now closer than the diameter was closer than diameter + skin then.
     const double limit2 = 0.25 * skin * skin;
-    for (int k = first_node; !needed && k < last_node; ++k)
-      needed = core::norm_square(x[k] - x_at_build[k]) > limit2;
-
-    if (needed)
-      rebuild(x, first_node, last_node);
-    return needed;
+    for (int k = first_node; k < last_node; ++k)
+      if (core::norm_square(x[k] - x_at_build[k]) > limit2)
+        return false;
+    return true;
   }
 
   void BroadPhase::rebuild(const std::vector<core::Vec2> &x, const int first_node, const int last_node)

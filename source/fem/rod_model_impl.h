@@ -453,15 +453,26 @@ namespace wirefem::fem
                      std::initializer_list<int> nodes, Evaluation &e);
     /// K's pattern for the free range [first, last) and these contact pairs.
     void rebuild_sparsity(int first, int last, std::vector<contact::SegmentPair> pairs);
-    /// How an implicit step ended: committed, Newton failed, or converged
+    /// How an implicit step ended: committed, Newton failed, converged
     /// to a state whose largest overlap grew by more than FEM/Overlap
-    /// growth (not committed).
+    /// growth, or converged to a state with a contact its candidates
+    /// missed (none but the first committed).
     enum class StepOutcome
     {
       converged,
       not_converged,
-      overlap_grew
+      overlap_grew,
+      missed_contact
     };
+    /// Whether Newton's iteration saw every contact of x: the candidates
+    /// (updated at the step's start) cover x, or, rebuilt at x, list no
+    /// pair in contact they did not list before. A quasi-static step can
+    /// jump to a far equilibrium, past the skin, with one wire through
+    /// another.
+    bool saw_every_contact(const dealii::Vector<double> &x, int first, int last);
+    /// WIREFEM_NEWTON_LOG: a quasi-static step that moved a node by more
+    /// than d/4 (a jump between equilibria Newton crossed without failing).
+    void log_jump(double step, int first, int last, const dealii::Vector<double> &u1) const;
     /// One implicit step: predictor, then Newton's iteration; commits when
     /// it converges (and the overlap test passes). kept: the linear solves
     /// by GMRES on the kept factors (FEM/Linear solver), otherwise an LU

@@ -136,6 +136,36 @@ namespace wirefem::fem
     broad.update(xs, first - 1, last + 1);
   }
 
+  void RodModel::Impl::log_jump(const double step, const int first, const int last,
+                                const dealii::Vector<double> &u1) const
+  {
+    double jump = 0.0;
+    int at = 0;
+    for (int k = first; k < last; ++k)
+      if (const double dk = norm(position(u1, k) - position(u, k)); dk > jump)
+        jump = dk, at = k;
+    if (jump > 0.25 * diameter)
+      std::cerr << fmt::format("t = {:.5g}: quasi-static step moved node {} by {:.3g} d\n", t + step, at,
+                               jump / diameter);
+  }
+
+  bool RodModel::Impl::saw_every_contact(const dealii::Vector<double> &x, const int first, const int last)
+  {
+    if (clamped || capstan) // no self contact
+      return true;
+    std::vector<Vec2> xs(n_nodes);
+    for (unsigned int k = 0; k < n_nodes; ++k)
+      xs[k] = position(x, k);
+    if (broad.covers(xs, first - 1, last + 1))
+      return true;
+    const std::vector<contact::SegmentPair> seen = broad.candidates();
+    broad.update(xs, first - 1, last + 1);
+    for (const auto &pr : broad.candidates())
+      if (closer_than(x, pr, diameter) && !std::binary_search(seen.begin(), seen.end(), pr))
+        return false;
+    return true;
+  }
+
   void RodModel::Impl::move_along(const AssemblyRequest &rq, StepState &x,
                                   const dealii::Vector<double> &u_start, const dealii::Vector<double> &dx,
                                   const double lambda) const
@@ -253,6 +283,10 @@ namespace wirefem::fem
       {
         if (res <= tol)
           {
+            // A contact Newton did not see: the step is cut like one
+            // that failed.
+            if (!saw_every_contact(u1, first, last))
+              return StepOutcome::missed_contact;
             // An impact crossed in one step: shorter steps, down to 1/16
             // of the step cap.
             if (overlap_growth > 0 && e.max_overlap > last_report.max_penetration + overlap_growth &&
@@ -291,6 +325,8 @@ namespace wirefem::fem
                               const int work_last)
   {
     const unsigned int n = u.size();
+    if (quasi_static_injection && !dynamic_phase() && std::getenv("WIREFEM_NEWTON_LOG"))
+      log_jump(step, first, last, u1);
     // Wire that entered the system this step brings its kinetic energy.
     if (first < first_free || last > last_free)
       {

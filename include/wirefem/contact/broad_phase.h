@@ -38,6 +38,11 @@ namespace wirefem::contact
     /// Rebuilds the candidate list if needed; returns true if it did.
     bool update(const std::vector<core::Vec2> &x, int first_node, int last_node);
 
+    /// Whether the candidates hold every pair of x closer than the
+    /// diameter: they were built for these nodes and none has moved more
+    /// than skin/2 since (what update() checks before it rebuilds).
+    bool covers(const std::vector<core::Vec2> &x, int first_node, int last_node) const;
+
     /// Force a rebuild at the next update (e.g. after nodes were renumbered).
     void invalidate() { valid = false; }
 
