@@ -177,8 +177,9 @@ namespace wirefem::fem
     std::optional<double> push_to;    ///< wire per channel a pushing phase injects to
     double paused_total = 0.0;        ///< time spent paused before
     unsigned long calm_steps = 0, snaps = 0, dynamic_steps = 0, pushes = 0;
-    double last_snap_at = -1.0;             ///< wire per channel at the last snap
-    static constexpr double qs_push = 0.25; ///< d
+    double last_snap_at = -1.0;               ///< wire per channel at the last snap
+    static constexpr double qs_push = 0.25;   ///< d
+    static constexpr double qs_again = 0.025; ///< d: a snap this near the last one is where it was
     double qs_dt_max = 0, dynamic_dt_max = 0;
     static constexpr double qs_calm = 1e-4;
     static constexpr unsigned long qs_calm_steps = 10;

@@ -434,7 +434,7 @@ namespace wirefem::fem
   void RodModel::Impl::enter_dynamics()
   {
     const double at = injected_at(t);
-    const bool again = last_snap_at >= 0.0 && at - last_snap_at < 0.025 * diameter;
+    const bool again = last_snap_at >= 0.0 && at - last_snap_at < qs_again * diameter;
     last_snap_at = at;
     // From the last equilibrium, at rest; the channels held, or (a snap
     // where the last one was) pushing first.
