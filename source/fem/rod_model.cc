@@ -76,9 +76,9 @@ namespace wirefem::fem
           }
         ++m.cuts;
         if (std::getenv("WIREFEM_NEWTON_LOG"))
-          std::cerr << fmt::format("t = {:.5g}: step {:.3g} cut; {}{}\n", m.t, step,
+          std::cerr << fmt::format("t = {:.5g}: step {:.3g} cut; {}residuals{}\n", m.t, step,
                                    outcome == Outcome::missed_contact ? "Newton missed a contact; " : "",
-                                   "residuals" + m.residual_history());
+                                   m.residual_history());
         step *= 0.5;
         if (m.quasi_static_injection && !m.dynamic_phase() && step < m.scene.fem.minimum_time_step)
           {

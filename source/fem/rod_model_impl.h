@@ -169,7 +169,7 @@ namespace wirefem::fem
     /// cut below FEM/Minimum time step) to generalized-alpha with
     /// the injection paused, until the kinetic energy has fallen below
     /// qs_calm of the stored one for qs_calm_steps steps in a row. A snap
-    /// that comes back where the last one was (within 0.025 d of injection,
+    /// that comes back where the last one was (within qs_again of injection,
     /// the default longest step) is no instability but a point quasi-static Newton cannot
     /// pass: that phase first injects qs_push of wire per channel at the
     /// scene's speed, then pauses.
@@ -491,6 +491,8 @@ namespace wirefem::fem
     }
     /// The broad phase's candidate pairs for the free range.
     void update_contact_candidates(int first, int last);
+    /// The node positions of x, as the broad phase takes them.
+    std::vector<Vec2> node_positions(const dealii::Vector<double> &x) const;
     /// Moves x.u1 by the Newton correction dx (with backtracking when
     /// line_search is on); e holds the evaluation at the new x.u1 with its
     /// tangent in K. Returns its residual norm.

@@ -130,10 +130,15 @@ namespace wirefem::fem
   void RodModel::Impl::update_contact_candidates(const int first, const int last)
   {
     core::SectionTimer::Scope ts(timer, "contact search");
+    broad.update(node_positions(u), first - 1, last + 1);
+  }
+
+  std::vector<Vec2> RodModel::Impl::node_positions(const dealii::Vector<double> &x) const
+  {
     std::vector<Vec2> xs(n_nodes);
     for (unsigned int k = 0; k < n_nodes; ++k)
-      xs[k] = position(u, k);
-    broad.update(xs, first - 1, last + 1);
+      xs[k] = position(x, k);
+    return xs;
   }
 
   void RodModel::Impl::log_jump(const double step, const int first, const int last,
@@ -153,9 +158,7 @@ namespace wirefem::fem
   {
     if (clamped || capstan) // no self contact
       return true;
-    std::vector<Vec2> xs(n_nodes);
-    for (unsigned int k = 0; k < n_nodes; ++k)
-      xs[k] = position(x, k);
+    const std::vector<Vec2> xs = node_positions(x);
     if (broad.covers(xs, first - 1, last + 1))
       return true;
     const std::vector<contact::SegmentPair> seen = broad.candidates();
