@@ -348,9 +348,16 @@ namespace wirefem::simulation
     fs::create_directories(s.output_directory);
     int status = 0;
     int done = 0, skipped = 0;
-    for (std::size_t k = rank; k < all.size() && status != 130; k += size)
+    // Realization by realization: a sweep run in pieces has the whole grid
+    // of its first seed before any cell's second one.
+    std::vector<std::size_t> order(all.size());
+    for (std::size_t k = 0; k < all.size(); ++k)
+      order[k] = k;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](const std::size_t a, const std::size_t b) { return all[a].seed < all[b].seed; });
+    for (std::size_t k = rank; k < order.size() && status != 130; k += size)
       {
-        const auto &c = all[k];
+        const auto &c = all[order[k]];
         if (!finished_summary(c).is_null())
           {
             ++skipped;

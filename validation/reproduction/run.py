@@ -3,7 +3,11 @@
 needs (reused when finished, so the study can be run in pieces) and a
 report with figures.
 
-    validation/reproduction/run.py WIREFEM OUTDIR [--jobs N]
+    validation/reproduction/run.py WIREFEM OUTDIR [--jobs N] [--only STUDY...] [--archive]
+
+Runs kept in the repository (validation/reproduction/runs/, archive.py)
+are copied into OUTDIR first and not run again; --archive keeps the runs
+finished in OUTDIR there afterwards.
 
 The studies (analysis.STUDIES; run directories OUTDIR/<study>_s<seed>):
 
@@ -51,6 +55,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.dirname(HERE))
 import analysis  # noqa: E402
+import archive  # noqa: E402
 import phase  # noqa: E402
 import study  # noqa: E402
 
@@ -98,9 +103,12 @@ def main():
     parser.add_argument("--only", nargs="*", choices=list(analysis.STUDIES) + ["phase_f50"],
                         help="run only these studies (phase_f50: the phase diagram) "
                         "(the report takes every finished run)")
+    parser.add_argument("--archive", action="store_true",
+                        help="keep OUTDIR's finished runs in validation/reproduction/runs afterwards")
     args = parser.parse_args()
     wirefem = os.path.abspath(args.wirefem)
     os.makedirs(args.outdir, exist_ok=True)
+    print(f"restored {archive.restore(os.path.abspath(args.outdir))} kept runs into {args.outdir}", flush=True)
     only = list(dict.fromkeys(args.only or list(analysis.STUDIES) + ["phase_f50"]))
     cases = [(study, seed) for study in only if study != "phase_f50" for seed in analysis.STUDIES[study]["seeds"]]
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
@@ -108,6 +116,8 @@ def main():
             print("done:", out, flush=True)
     if "phase_f50" in only:
         run_sweep(wirefem, os.path.abspath(args.outdir), args.jobs)
+    if args.archive:
+        print(f"kept {archive.save(os.path.abspath(args.outdir))} runs in {archive.ARCHIVE}", flush=True)
     analysis.report(args.outdir)
     print(f"report: {os.path.join(args.outdir, 'report.md')}")
 
