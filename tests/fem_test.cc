@@ -887,6 +887,43 @@ namespace
     check_tangent_in_contact(m, 60.0);
   }
 
+  TEST(RodModel, ContactAlongTheElementTangentIsTheDerivativeOfTheResidual)
+  {
+    // FEM/Contact points: self contact at Gauss points on the curve of
+    // elements of degree 2, with friction and plasticity.
+    fem::RodModel m(
+        fem_scene({"Wire/Plasticity/Yield curvature=0.05", "Contact/Friction/Static coefficient=0.5",
+                   "FEM/Degree=2", "FEM/Contact points=2"}));
+    check_tangent_in_contact(m, 45.0);
+  }
+
+  TEST(RodModel, ContactAlongTheElementForceIsTheGradientOfItsEnergy)
+  {
+    // An elastic wire without friction: the assembled conservative forces
+    // (dashpots apart) are the gradient of the stored energy, checked
+    // at three states with self contact, for contact at the nodes and
+    // along elements of degree 1 and 3.
+    for (const auto &keys : std::vector<std::vector<std::string>>{
+             {"FEM/Contact points=0"}, {"FEM/Contact points=2"}, {"FEM/Degree=3", "FEM/Contact points=3"}})
+      {
+        auto o = keys;
+        o.insert(o.end(), {"Wire/Plasticity/Enabled=false", "Contact/Friction/Static coefficient=0"});
+        fem::RodModel m(fem_scene(o));
+        int checked = 0;
+        while (m.injected_length() < 45.0 && checked < 3)
+          {
+            m.step();
+            if (m.report().n_self_contacts > 0 && m.n_steps() % 11 == 0)
+              {
+                EXPECT_LT(fem::RodModelProbe::force_gradient_error(m), 1e-6)
+                    << keys.back() << " at L = " << m.injected_length();
+                ++checked;
+              }
+          }
+        EXPECT_EQ(checked, 3) << keys.back() << ": too few steps with self contact";
+      }
+  }
+
   TEST(RodModel, QuasiStaticInjectionKeepsItsStartShapeAndCostsTheSameAtAnySpeed)
   {
     // Without inertia the start's perturbation is stress-free (its bending

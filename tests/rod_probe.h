@@ -100,6 +100,40 @@ namespace wirefem::fem
       return worst / largest;
     }
 
+    /// At the predictor of the rod's next step: max |f - grad E| / max |f|
+    /// over the free dofs, f the conservative forces assembled there and E
+    /// the stored energy (axial, shear, bending, contact), its gradient by
+    /// central differences. The model is not advanced.
+    static double force_gradient_error(RodModel &rod)
+    {
+      auto &m = *rod.impl;
+      StepState x;
+      const AssemblyRequest rq = m.start_step(m.dt, x).without_tangent();
+      Evaluation e, trial;
+      m.evaluate(rq, e);
+      const auto energy = [&] {
+        m.evaluate(rq, trial);
+        return trial.axial + trial.shear + trial.bending + trial.contact;
+      };
+      double worst = 0, largest = 0;
+      const double eps = 1e-6;
+      for (int i = 3 * rq.first; i < 3 * rq.last; ++i)
+        {
+          const double keep = x.u1[i];
+          x.u1[i] = keep + eps;
+          x.update();
+          const double up = energy();
+          x.u1[i] = keep - eps;
+          x.update();
+          const double down = energy();
+          x.u1[i] = keep;
+          x.update();
+          worst = std::max(worst, std::abs(e.force[i] - (up - down) / (2 * eps)));
+          largest = std::max(largest, std::abs(e.force[i]));
+        }
+      return worst / largest;
+    }
+
     /// The linear solver's counts (factorisations, GMRES iterations).
     static const SparseDirect::Statistics &linear_statistics(const RodModel &rod)
     {

@@ -47,13 +47,33 @@ namespace wirefem::fem
         out.push_back(pr);
   }
 
-  bool RodModel::Impl::pattern_covers(const dealii::Vector<double> &x) const
+  double RodModel::Impl::contact_reach(const dealii::Vector<double> &x, const int first, const int last) const
+  {
+    // Contact points on an element's curve lie off the chord between its
+    // nodes: two segments can touch with their chords that much farther
+    // than d apart.
+    double bulge = 0.0;
+    if (!segment_points.empty() && p > 1)
+      for (int k = std::max(first - 1, 0); k + 1 < std::min(last + 1, static_cast<int>(n_nodes)); ++k)
+        for (const auto &cp : segment_points[k])
+          {
+            Vec2 xp{0.0, 0.0};
+            for (std::size_t l = 0; l < cell_node[cp.cell].size(); ++l)
+              xp += cp.N[l] * position(x, cell_node[cp.cell][l]);
+            bulge = std::max(
+                bulge,
+                std::sqrt(contact::closest_on_segment(xp, position(x, k), position(x, k + 1)).distance2));
+          }
+    return diameter + 2.0 * bulge;
+  }
+
+  bool RodModel::Impl::pattern_covers(const dealii::Vector<double> &x, const double reach) const
   {
     // Both lists are sorted by (i, j).
     auto in = sp_pairs.begin();
     for (const auto &pr : broad.candidates())
       {
-        if (!closer_than(x, pr, diameter))
+        if (!closer_than(x, pr, reach))
           continue;
         while (in != sp_pairs.end() && *in < pr)
           ++in;
@@ -70,7 +90,7 @@ namespace wirefem::fem
     // The columns of each row (local dof numbers), sorted and unique below.
     std::vector<std::vector<int>> rows(n);
     // The first `components` dofs of each node of `nodes` with each other.
-    auto couple = [&](std::initializer_list<int> nodes, const int components) {
+    auto couple = [&](const std::vector<int> &nodes, const int components) {
       for (const int ka : nodes)
         for (const int kb : nodes)
           if (ka >= first && ka < last && kb >= first && kb < last)
@@ -86,10 +106,21 @@ namespace wirefem::fem
     // Contact acts on positions only (add_contact). A pair presses each
     // segment's first node onto the other segment (assemble_self_contact):
     // node i with j and j + 1, node j with i and i + 1.
+    // Contact along the element: the nodes of the cell of each segment's
+    // contact points with the other segment's nodes.
+    auto points_of = [&](const int a) {
+      std::vector<int> nodes{a};
+      if (!segment_points.empty())
+        nodes.assign(cell_node[a / p].begin(), cell_node[a / p].end());
+      return nodes;
+    };
     for (const auto &pr : pairs)
       {
-        couple({pr.i, pr.j, pr.j + 1}, 2);
-        couple({pr.j, pr.i, pr.i + 1}, 2);
+        auto a_on_b = points_of(pr.i), b_on_a = points_of(pr.j);
+        a_on_b.insert(a_on_b.end(), {pr.j, pr.j + 1});
+        b_on_a.insert(b_on_a.end(), {pr.i, pr.i + 1});
+        couple(a_on_b, 2);
+        couple(b_on_a, 2);
       }
     std::vector<int> row_start(n + 1, 0), columns;
     for (int i = 0; i < n; ++i)
@@ -141,10 +172,11 @@ namespace wirefem::fem
         // candidate pairs within pattern_margin of contact when it was
         // built; it is built anew when the free range changes or a pair
         // that can touch (closer than the contact distance) is not in it.
-        if (rq.first != sp_first || rq.last != sp_last || !pattern_covers(*rq.u))
+        const double reach = contact_reach(*rq.u, rq.first, rq.last);
+        if (rq.first != sp_first || rq.last != sp_last || !pattern_covers(*rq.u, reach))
           {
             std::vector<contact::SegmentPair> near;
-            near_pairs(*rq.u, pattern_margin, near);
+            near_pairs(*rq.u, reach - diameter + pattern_margin, near);
             rebuild_sparsity(rq.first, rq.last, std::move(near));
           }
         K.zero();
@@ -207,16 +239,72 @@ namespace wirefem::fem
         g[n++] = 3 * k;
         g[n++] = 3 * k + 1;
       }
-    for (int i = 0; i < n; ++i)
-      {
-        const double normal = cc.residual[i] - cc.friction_residual[i];
-        e.force[g[i]] += normal;
-        e.friction[g[i]] += cc.friction_residual[i];
-        e.dissipative[g[i]] += cc.friction_residual[i];
-        e.residual[g[i]] += rq.blend_force * normal + cc.friction_residual[i];
-      }
+    add_contact_forces(rq, g, n, cc.residual.data(), cc.friction_residual.data(), e);
     if (rq.want_tangent)
       add_matrix(rq, g, n, cc.tangent.data(), rq.c_force);
+    e.contact += cc.energy;
+    e.max_overlap = std::max(e.max_overlap, cc.overlap);
+  }
+
+  void RodModel::Impl::add_contact_forces(const AssemblyRequest &rq, const int *g, const int n,
+                                          const double *residual, const double *friction, Evaluation &e)
+  {
+    for (int i = 0; i < n; ++i)
+      {
+        const double normal = residual[i] - friction[i];
+        e.force[g[i]] += normal;
+        e.friction[g[i]] += friction[i];
+        e.dissipative[g[i]] += friction[i];
+        e.residual[g[i]] += rq.blend_force * normal + friction[i];
+      }
+  }
+
+  void RodModel::Impl::add_point_on_cell(const AssemblyRequest &rq, const ContactContribution &cc,
+                                         const unsigned int cell, const std::array<double, 4> &N,
+                                         const int seg, Evaluation &e)
+  {
+    // The contact's point x = sum_a N_a X_a: its rows and columns of the
+    // contribution (points: x, the segment's two nodes) carried to the
+    // cell's nodes by N, x = P (X_cell, x_seg, x_seg+1), so the residual
+    // becomes P^T r and the tangent P^T T P.
+    const auto &nodes = cell_node[cell];
+    const int n_cell = static_cast<int>(nodes.size()), n = 2 * n_cell + 4;
+    constexpr int most = 2 * 4 + 4;
+    int g[most];
+    for (int l = 0; l < n_cell; ++l)
+      {
+        g[2 * l] = 3 * static_cast<int>(nodes[l]);
+        g[2 * l + 1] = 3 * static_cast<int>(nodes[l]) + 1;
+      }
+    for (int m = 0; m < 4; ++m)
+      g[2 * n_cell + m] = 3 * (seg + m / 2) + m % 2;
+    // Row r of the contribution goes to the columns (and weights) of P.
+    const auto spread = [&](const int r, const auto &to) {
+      if (r < 2)
+        for (int l = 0; l < n_cell; ++l)
+          to(2 * l + r, N[l]);
+      else
+        to(2 * n_cell + r - 2, 1.0);
+    };
+    double residual[most] = {}, friction[most] = {};
+    for (int r = 0; r < 6; ++r)
+      spread(r, [&](const int c, const double w) {
+        residual[c] += w * cc.residual[r];
+        friction[c] += w * cc.friction_residual[r];
+      });
+    add_contact_forces(rq, g, n, residual, friction, e);
+    if (rq.want_tangent)
+      {
+        double mat[most * most] = {};
+        for (int r = 0; r < 6; ++r)
+          for (int c = 0; c < 6; ++c)
+            spread(r, [&](const int i, const double wi) {
+              spread(c, [&](const int j, const double wj) {
+                mat[i * n + j] += wi * wj * cc.tangent[r * 6 + c];
+              });
+            });
+        add_matrix(rq, g, n, mat, rq.c_force);
+      }
     e.contact += cc.energy;
     e.max_overlap = std::max(e.max_overlap, cc.overlap);
   }
@@ -392,7 +480,9 @@ namespace wirefem::fem
     const auto &u1 = *rq.u;
     const int first = rq.first, last = rq.last;
     ContactContribution cc;
-    if (scene.contact.self_contact)
+    if (scene.contact.self_contact && !segment_points.empty())
+      assemble_self_contact_along(rq, e);
+    else if (scene.contact.self_contact)
       {
         // Node-to-segment contact, both ways: the first node of each
         // candidate segment against the other segment. Two wires side by
@@ -439,5 +529,62 @@ namespace wirefem::fem
                 e.pairs.push_back({seg, node, tc, 0.0, cc.normal_force});
             }
       }
+  }
+
+  void RodModel::Impl::assemble_self_contact_along(const AssemblyRequest &rq, Evaluation &e)
+  {
+    // As the node-to-segment contact (assemble_self_contact), with the
+    // contact points of each candidate segment, on its element's curve, in
+    // place of its first node: both ways, half the penalty each, each point
+    // pressed once by the stretch of wire it faces (point_stretch_contact).
+    const auto &u1 = *rq.u;
+    const int first_segment = rq.first - 1, last_segment = rq.last + 1 - 2;
+    const double fs = rq.friction_scale();
+    const auto at = [&](const int k) { return position(u1, k); };
+    const auto allowed = [&](const int a, const int s) {
+      return s >= first_segment && s <= last_segment && std::abs(s - a) > exclusion;
+    };
+    ContactContribution cc;
+    for (const auto &pr : broad.candidates())
+      for (const bool a_on_b : {true, false})
+        {
+          const int a = a_on_b ? pr.i : pr.j, seg = a_on_b ? pr.j : pr.i;
+          bool listed = false;
+          for (const auto &cp : segment_points[a])
+            {
+              Vec2 xp{0.0, 0.0}, vp{0.0, 0.0};
+              const auto &nodes = cell_node[cp.cell];
+              for (std::size_t l = 0; l < nodes.size(); ++l)
+                {
+                  xp += cp.N[l] * at(nodes[l]);
+                  vp += cp.N[l] * rq.velocity0(nodes[l]);
+                }
+              const std::array<Vec2, 3> x{{xp, at(seg), at(seg + 1)}};
+              const std::array<Vec2, 3> w0{{vp, rq.velocity0(seg), rq.velocity0(seg + 1)}};
+              double tc, fv;
+              const bool touch =
+                  point_stretch_contact(self_settings, 0.5 * cp.weight, x, w0, rq.friction_c_vel(),
+                                        allowed(a, seg + 1), cc, tc, fv, fs);
+              e.max_overlap = std::max(e.max_overlap, cc.overlap);
+              if (!touch)
+                continue;
+              add_point_on_cell(rq, cc, cp.cell, cp.N, seg, e);
+              for (std::size_t l = 0; l < nodes.size(); ++l)
+                e.node_contact_force[nodes[l]] += cp.N[l] * (cc.normal_force - fv);
+              e.node_contact_force[seg] += (1.0 - tc) * cc.normal_force;
+              e.node_contact_force[seg + 1] += tc * cc.normal_force - fv;
+              // The contact network: one pair per segment and stretch, at
+              // the first point the stretch's nearest segment presses.
+              if (listed ||
+                  !contact::nearest_of_stretch(xp, seg, contact::closest_on_segment(xp, x[1], x[2]).distance2,
+                                               at, [&](const int s) { return allowed(a, s); }))
+                continue;
+              listed = true;
+              if (a_on_b)
+                e.pairs.push_back({a, seg, cp.along, tc, cc.normal_force});
+              else
+                e.pairs.push_back({seg, a, tc, cp.along, cc.normal_force});
+            }
+        }
   }
 } // namespace wirefem::fem

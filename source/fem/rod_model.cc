@@ -24,10 +24,13 @@ namespace wirefem::fem
                                    : s.integrator == scene::Integrator::explicit_lumped
                                        ? "explicit (lumped mass)"
                                        : fmt::format("generalized-alpha rho = {}", s.spectral_radius);
+    const std::string along = impl->segment_points.empty()
+                                  ? ""
+                                  : fmt::format(", self contact at {} points a segment", s.contact_points);
     const std::string rod =
-        fmt::format("{} rod, degree {}, h = {:g}, {} dofs, {}",
+        fmt::format("{} rod, degree {}, h = {:g}, {} dofs{}, {}",
                     s.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner", s.degree,
-                    impl->h, impl->dof_handler.n_dofs(), integrator);
+                    impl->h, impl->dof_handler.n_dofs(), along, integrator);
     if (impl->clamped)
       return rod;
     return fmt::format("{}, dt {} {:.4g}", rod, impl->explicit_mode ? "=" : "<=", impl->dt_max);

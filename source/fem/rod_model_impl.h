@@ -156,7 +156,18 @@ namespace wirefem::fem
     unsigned int n_cells = 0, n_nodes = 0, n_local = 0;
     std::vector<double> node_S;                       // material coordinate of node k (sorted)
     std::vector<std::vector<unsigned int>> cell_node; // node of local node a
-    double a_left = 0, a_right = 0;                   // material coordinates of the inlets at t = 0
+    /// FEM/Contact points > 0: the points of segment k (nodes k, k + 1)
+    /// where self contact acts, each on the curve of the segment's cell.
+    struct ContactPoint
+    {
+      unsigned int cell;
+      double along;              ///< where in the segment, in [0, 1]
+      double weight;             ///< the wire length it stands for
+      std::array<double, 4> N{}; ///< the cell's shape functions there
+    };
+    std::vector<std::vector<ContactPoint>> segment_points;
+    void set_up_contact_points(unsigned int n_points);
+    double a_left = 0, a_right = 0; // material coordinates of the inlets at t = 0
     double min_spacing = 0;
 
     // Generalized-alpha.
@@ -273,9 +284,13 @@ namespace wirefem::fem
     /// The candidate pairs of positions `u` closer than diameter + reach.
     void near_pairs(const dealii::Vector<double> &u, double reach,
                     std::vector<contact::SegmentPair> &out) const;
-    /// Whether every candidate pair of positions `u` closer than the
-    /// contact distance (every pair that can touch) is in K's pattern.
-    bool pattern_covers(const dealii::Vector<double> &u) const;
+    /// Whether every candidate pair of positions `u` whose chords are
+    /// closer than `reach` (every pair that can touch) is in K's pattern.
+    bool pattern_covers(const dealii::Vector<double> &u, double reach) const;
+    /// The chord distance below which two segments of the free range can
+    /// touch: d, plus twice the largest distance of a contact point off its
+    /// chord (FEM/Contact points > 0 on elements of degree 2 or 3).
+    double contact_reach(const dealii::Vector<double> &x, int first, int last) const;
 
     core::EnergyLedger ledger;
     core::StepReport last_report;
@@ -445,6 +460,14 @@ namespace wirefem::fem
     bool wall_spring_contact(const AssemblyRequest &rq, int k, ContactContribution &cc, Evaluation &e) const;
     void assemble_channel_walls(const AssemblyRequest &rq, Evaluation &e);
     void assemble_self_contact(const AssemblyRequest &rq, Evaluation &e);
+    /// FEM/Contact points > 0: the points of each candidate segment against
+    /// the stretch of the other.
+    void assemble_self_contact_along(const AssemblyRequest &rq, Evaluation &e);
+    /// Adds a point-stretch contribution (points: the contact point, the
+    /// segment's two nodes) whose point lies on cell `cell` with shape
+    /// functions N: its force and tangent carried to the cell's nodes.
+    void add_point_on_cell(const AssemblyRequest &rq, const ContactContribution &cc, unsigned int cell,
+                           const std::array<double, 4> &N, int seg, Evaluation &e);
     /// Adds scale * m (the square matrix on the n global dofs g, row
     /// major) to K, restricted to the free range; each dof is component
     /// g % 3 of node g / 3.
@@ -452,6 +475,9 @@ namespace wirefem::fem
     /// Adds a contact contribution on the nodes listed (x and y of each).
     void add_contact(const AssemblyRequest &rq, const ContactContribution &cc,
                      std::initializer_list<int> nodes, Evaluation &e);
+    /// Adds a contact's residual and its friction part on the global dofs g.
+    void add_contact_forces(const AssemblyRequest &rq, const int *g, int n, const double *residual,
+                            const double *friction, Evaluation &e);
     /// K's pattern for the free range [first, last) and these contact pairs.
     void rebuild_sparsity(int first, int last, std::vector<contact::SegmentPair> pairs);
     /// How an implicit step ended: committed, Newton failed, converged
