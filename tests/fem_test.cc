@@ -889,8 +889,9 @@ namespace
 
   TEST(RodModel, ContactAlongTheElementTangentIsTheDerivativeOfTheResidual)
   {
-    // FEM/Contact points: self contact at Gauss points on the curve of
-    // elements of degree 2, with friction and plasticity.
+    // FEM/Contact points: self and wall contact at Gauss points on the
+    // curve of elements of degree 2, with friction (the wall's spring law)
+    // and plasticity.
     fem::RodModel m(
         fem_scene({"Wire/Plasticity/Yield curvature=0.05", "Contact/Friction/Static coefficient=0.5",
                    "FEM/Degree=2", "FEM/Contact points=2"}));
@@ -1268,6 +1269,18 @@ namespace
         << "no step cut for overlap growth after the checkpoint";
     EXPECT_EQ(straight.n_steps(), resumed.n_steps());
     EXPECT_EQ(fem::RodModelProbe::overlap_cuts(straight), fem::RodModelProbe::overlap_cuts(resumed));
+    EXPECT_EQ(straight.time(), resumed.time());
+    EXPECT_EQ(largest_distance(straight, resumed), 0.0);
+  }
+
+  TEST(RodModel, ContactAlongTheElementSavesAndLoadsBitForBit)
+  {
+    // The wall springs of the contact points are part of the checkpoint.
+    const auto s =
+        fem_scene({"Contact/Friction/Static coefficient=0.5", "FEM/Degree=2", "FEM/Contact points=2"});
+    fem::RodModel straight(s), first(s), resumed(s);
+    checks::run_straight_and_resumed(straight, first, resumed, 38.0, 45.0);
+    EXPECT_EQ(straight.n_steps(), resumed.n_steps());
     EXPECT_EQ(straight.time(), resumed.time());
     EXPECT_EQ(largest_distance(straight, resumed), 0.0);
   }

@@ -26,7 +26,7 @@ namespace wirefem::fem
                                        : fmt::format("generalized-alpha rho = {}", s.spectral_radius);
     const std::string along = impl->segment_points.empty()
                                   ? ""
-                                  : fmt::format(", self contact at {} points a segment", s.contact_points);
+                                  : fmt::format(", contact at {} points a segment", s.contact_points);
     const std::string rod =
         fmt::format("{} rod, degree {}, h = {:g}, {} dofs{}, {}",
                     s.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner", s.degree,

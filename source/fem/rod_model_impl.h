@@ -156,8 +156,7 @@ namespace wirefem::fem
     unsigned int n_cells = 0, n_nodes = 0, n_local = 0;
     std::vector<double> node_S;                       // material coordinate of node k (sorted)
     std::vector<std::vector<unsigned int>> cell_node; // node of local node a
-    /// FEM/Contact points > 0: the points of segment k (nodes k, k + 1)
-    /// where self contact acts, each on the curve of the segment's cell.
+    /// FEM/Contact points > 0: segment k's contact points, on its cell's curve.
     struct ContactPoint
     {
       unsigned int cell;
@@ -287,9 +286,8 @@ namespace wirefem::fem
     /// Whether every candidate pair of positions `u` whose chords are
     /// closer than `reach` (every pair that can touch) is in K's pattern.
     bool pattern_covers(const dealii::Vector<double> &u, double reach) const;
-    /// The chord distance below which two segments of the free range can
-    /// touch: d, plus twice the largest distance of a contact point off its
-    /// chord (FEM/Contact points > 0 on elements of degree 2 or 3).
+    /// The chord distance below which two segments can touch: d plus twice
+    /// the largest distance of a contact point off its chord.
     double contact_reach(const dealii::Vector<double> &x, int first, int last) const;
 
     core::EnergyLedger ledger;
@@ -457,15 +455,23 @@ namespace wirefem::fem
     void evaluate(const AssemblyRequest &rq, Evaluation &e);
     void assemble_elements(const AssemblyRequest &rq, Evaluation &e);
     void assemble_wall(const AssemblyRequest &rq, Evaluation &e);
-    bool wall_spring_contact(const AssemblyRequest &rq, int k, ContactContribution &cc, Evaluation &e) const;
+    /// The wall's spring law at wall site i (a node, or a contact point
+    /// along the element) at position x standing for wire length `weight`.
+    bool wall_spring_contact(const AssemblyRequest &rq, unsigned int i, const Vec2 &x, double weight,
+                             ContactContribution &cc, Evaluation &e) const;
+    /// FEM/Contact points > 0: the wall at the points of segments [first, last).
+    void assemble_wall_along(const AssemblyRequest &rq, int first, int last, Evaluation &e);
+    Vec2 point_position(const dealii::Vector<double> &x, const ContactPoint &cp) const;
+    /// The wall's sites: the nodes, or (FEM/Contact points > 0) the contact points.
+    unsigned int n_wall_sites() const;
     void assemble_channel_walls(const AssemblyRequest &rq, Evaluation &e);
     void assemble_self_contact(const AssemblyRequest &rq, Evaluation &e);
-    /// FEM/Contact points > 0: the points of each candidate segment against
-    /// the stretch of the other.
+    /// FEM/Contact points > 0: each candidate segment's points against the other's stretch.
     void assemble_self_contact_along(const AssemblyRequest &rq, Evaluation &e);
     /// Adds a point-stretch contribution (points: the contact point, the
-    /// segment's two nodes) whose point lies on cell `cell` with shape
-    /// functions N: its force and tangent carried to the cell's nodes.
+    /// segment's two nodes; the contact point alone when seg < 0, a wall
+    /// contact) whose point lies on cell `cell` with shape functions N: its
+    /// force and tangent carried to the cell's nodes.
     void add_point_on_cell(const AssemblyRequest &rq, const ContactContribution &cc, unsigned int cell,
                            const std::array<double, 4> &N, int seg, Evaluation &e);
     /// Adds scale * m (the square matrix on the n global dofs g, row

@@ -75,9 +75,14 @@ namespace wirefem::fem
 
   void RodModel::Impl::note_spring_positions(const dealii::Vector<double> &at)
   {
-    spring_from.resize(n_nodes);
-    for (unsigned int k = 0; k < n_nodes; ++k)
-      spring_from[k] = position(at, k);
+    spring_from.resize(n_wall_sites());
+    if (segment_points.empty())
+      for (unsigned int k = 0; k < n_nodes; ++k)
+        spring_from[k] = position(at, k);
+    else
+      for (unsigned int k = 0, i = 0; k + 1 < n_nodes; ++k)
+        for (const auto &cp : segment_points[k])
+          spring_from[i++] = point_position(at, cp);
   }
 
   void RodModel::Impl::build_mesh(const scene::RodScene &s)
@@ -243,7 +248,6 @@ namespace wirefem::fem
     wall_settings.friction = con.wall_contact && (keep || fr.wall_static_coefficient > 0 || capstan);
     wall_settings.mouths = !channels.is_tangential(); // the capstan's cavity has the radial channels too
     wall_spring = s.fem.spring_friction;
-    wall_springs.assign(wall_spring ? n_nodes : 0, contact::FrictionHistory{});
     self_settings.mu_static = fr.static_coefficient;
     self_settings.mu_dynamic = fr.dynamic_coefficient;
     self_settings.friction = con.self_contact && (keep || fr.static_coefficient > 0);
@@ -259,8 +263,9 @@ namespace wirefem::fem
     // distance plus the margin; its cutoff, diameter + skin, is unchanged).
     pattern_margin = 0.2 * con.skin;
     broad = contact::BroadPhase(diameter + pattern_margin, con.skin - pattern_margin, exclusion);
-    if (con.self_contact)
+    if (con.self_contact || con.wall_contact)
       set_up_contact_points(s.fem.contact_points);
+    wall_springs.assign(wall_spring ? n_wall_sites() : 0, contact::FrictionHistory{});
   }
 
   void RodModel::Impl::set_up_contact_points(const unsigned int n_points)

@@ -247,8 +247,8 @@ namespace wirefem::scene
     bool modified_newton = false;       ///< reuse a step's first LU while Newton contracts fast
     double newton_contraction = 0.1;    ///< modified Newton: largest residual ratio on kept factors
     bool spring_friction = true;        ///< wall friction by the discrete model's law (FEM/Friction law)
-    /// Self contact: 0, each node against the stretches near it; n > 0, n
-    /// Gauss points of each segment of the wire along its element.
+    /// Contact (wall and self): 0, at the nodes; n > 0, at n Gauss points
+    /// of each segment of the wire along its element.
     unsigned int contact_points = 0;
     /// eta_a (force time): axial dashpot N_v = eta_a d(eps)/dt; from the
     /// scene file, or the discrete model's dashpot in its continuum limit
