@@ -3,8 +3,37 @@
 // carried to the element's nodes by the shape functions.
 #include "rod_model_impl.h"
 
+#include <deal.II/base/quadrature_lib.h>
+
 namespace wirefem::fem
 {
+  void RodModel::Impl::set_up_contact_points(const unsigned int n_points)
+  {
+    segment_points.clear();
+    if (n_points == 0)
+      return;
+    // Segment k joins nodes k and k + 1 of cell k / p: local node 0 is node
+    // c p, local node 1 node (c + 1) p, local node a > 1 node c p + a - 1.
+    const auto &pos = stiffness_shape.node_position;
+    const auto local_of = [&](const unsigned int c, const unsigned int node) {
+      return node == c * p ? 0u : node == (c + 1) * p ? 1u : node - c * p + 1;
+    };
+    const dealii::QGauss<1> gauss(n_points);
+    std::array<double, 4> dN{};
+    segment_points.resize(n_nodes - 1);
+    for (unsigned int k = 0; k + 1 < n_nodes; ++k)
+      {
+        const unsigned int c = k / p;
+        const double xi0 = pos[local_of(c, k)], xi1 = pos[local_of(c, k + 1)];
+        for (unsigned int q = 0; q < n_points; ++q)
+          {
+            ContactPoint cp{c, gauss.point(q)[0], gauss.weight(q) * (node_S[k + 1] - node_S[k]), {}};
+            lagrange_basis(pos, xi0 + cp.along * (xi1 - xi0), cp.N.data(), dN.data());
+            segment_points[k].push_back(cp);
+          }
+      }
+  }
+
   double RodModel::Impl::contact_reach(const dealii::Vector<double> &x, const int first, const int last) const
   {
     // Contact points on an element's curve lie off the chord between its

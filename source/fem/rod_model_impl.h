@@ -160,12 +160,13 @@ namespace wirefem::fem
     struct ContactPoint
     {
       unsigned int cell;
-      double along;              ///< where in the segment, in [0, 1]
-      double weight;             ///< the wire length it stands for
+      double along, weight;      ///< where in the segment ([0, 1]); the wire length it stands for
       std::array<double, 4> N{}; ///< the cell's shape functions there
     };
     std::vector<std::vector<ContactPoint>> segment_points;
     void set_up_contact_points(unsigned int n_points);
+    /// Kirchhoff: section angles of least elastic energy, positions held.
+    void relax_section_angles();
     double a_left = 0, a_right = 0; // material coordinates of the inlets at t = 0
     double min_spacing = 0;
 
@@ -286,8 +287,7 @@ namespace wirefem::fem
     /// Whether every candidate pair of positions `u` whose chords are
     /// closer than `reach` (every pair that can touch) is in K's pattern.
     bool pattern_covers(const dealii::Vector<double> &u, double reach) const;
-    /// The chord distance below which two segments can touch: d plus twice
-    /// the largest distance of a contact point off its chord.
+    /// Chords closer than this can touch: d + 2 x the largest point-to-chord distance.
     double contact_reach(const dealii::Vector<double> &x, int first, int last) const;
 
     core::EnergyLedger ledger;
@@ -481,7 +481,7 @@ namespace wirefem::fem
     /// Adds a contact contribution on the nodes listed (x and y of each).
     void add_contact(const AssemblyRequest &rq, const ContactContribution &cc,
                      std::initializer_list<int> nodes, Evaluation &e);
-    /// Adds a contact's residual and its friction part on the global dofs g.
+    /// Adds a contact's residual (and its friction part) on the dofs g.
     void add_contact_forces(const AssemblyRequest &rq, const int *g, int n, const double *residual,
                             const double *friction, Evaluation &e);
     /// K's pattern for the free range [first, last) and these contact pairs.

@@ -1,7 +1,5 @@
 #include "rod_model_impl.h"
 
-#include <deal.II/base/quadrature_lib.h>
-
 namespace wirefem::fem
 {
   RodModel::Impl::Impl(const scene::RodScene &s)
@@ -268,33 +266,6 @@ namespace wirefem::fem
     wall_springs.assign(wall_spring ? n_wall_sites() : 0, contact::FrictionHistory{});
   }
 
-  void RodModel::Impl::set_up_contact_points(const unsigned int n_points)
-  {
-    segment_points.clear();
-    if (n_points == 0)
-      return;
-    // Segment k joins nodes k and k + 1 of cell k / p: local node 0 is node
-    // c p, local node 1 node (c + 1) p, local node a > 1 node c p + a - 1.
-    const auto &pos = stiffness_shape.node_position;
-    const auto local_of = [&](const unsigned int c, const unsigned int node) {
-      return node == c * p ? 0u : node == (c + 1) * p ? 1u : node - c * p + 1;
-    };
-    const dealii::QGauss<1> gauss(n_points);
-    std::array<double, 4> dN{};
-    segment_points.resize(n_nodes - 1);
-    for (unsigned int k = 0; k + 1 < n_nodes; ++k)
-      {
-        const unsigned int c = k / p;
-        const double xi0 = pos[local_of(c, k)], xi1 = pos[local_of(c, k + 1)];
-        for (unsigned int q = 0; q < n_points; ++q)
-          {
-            ContactPoint cp{c, gauss.point(q)[0], gauss.weight(q) * (node_S[k + 1] - node_S[k]), {}};
-            lagrange_basis(pos, xi0 + cp.along * (xi1 - xi0), cp.N.data(), dN.data());
-            segment_points[k].push_back(cp);
-          }
-      }
-  }
-
   void RodModel::Impl::set_generalized_alpha(const double rho)
   {
     // Kept for the dynamic phases of quasi-static injection too.
@@ -401,110 +372,6 @@ namespace wirefem::fem
     dt = dt_max;
     for (int side = 0; side < 2; ++side)
       window[side].length = h / p;
-  }
-
-  void RodModel::Impl::place_injected_wire(const scene::RodScene &s)
-  {
-    const double L0 = channels.initial_length();
-    if (channels.is_tangential())
-      {
-        // The S (as the discrete model's: injection::Channels::initial_s).
-        // The wire in a channel lies on its axis.
-        for (int k = first_free; k < last_free; ++k)
-          {
-            const double xi = node_S[k] - a_left;
-            Vec2 pos;
-            double angle = channels.wire_angle();
-            if (xi <= 0.0 || xi >= L0)
-              pos = xi <= 0.0 ? channels.position(Side::left, xi, 0.0)
-                              : channels.position(Side::right, L0 - xi, 0.0);
-            else
-              {
-                const auto p = channels.initial_s(xi);
-                pos = p.position;
-                angle = p.angle;
-              }
-            u[3 * k] = pos.x;
-            u[3 * k + 1] = pos.y;
-            u[3 * k + 2] = angle;
-          }
-      }
-    else
-      {
-        const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, 2.0 * radius,
-                                            s.injection.mirror_asymmetry);
-        for (int k = first_free; k < last_free; ++k)
-          {
-            const double xi = node_S[k] - a_left;
-            const bool across = xi > 0.0 && xi < 2.0 * radius; // else in a channel, on its axis
-            u[3 * k] = xi - radius;
-            u[3 * k + 1] = across ? shape.offset(xi) : 0.0;
-            u[3 * k + 2] = across ? std::atan(shape.slope(xi)) : 0.0;
-          }
-      }
-  }
-
-  void RodModel::Impl::set_initial_state(const scene::RodScene &s)
-  {
-    // Initial state: straight in the channels, the seeded shape across the
-    // cavity, at rest.
-    const unsigned int n_dofs = dof_handler.n_dofs();
-    u.reinit(n_dofs);
-    v.reinit(n_dofs);
-    a.reinit(n_dofs);
-    f_old.reinit(n_dofs);
-    dissipative_old.reinit(n_dofs);
-    friction_old.reinit(n_dofs);
-    qp.assign(n_cells * stiffness_shape.n_q, PointState{});
-    free_range(0.0, first_free, last_free);
-    wall_time = 0.0;
-    prescribe(0.0, u, nullptr, nullptr, first_free, last_free);
-    if (clamped)
-      for (int k = first_free; k < last_free; ++k)
-        u[3 * k] = node_S[k]; // straight along +x
-    else if (capstan)
-      set_capstan_state();
-    else
-      place_injected_wire(s);
-    // The initial acceleration, and the stored energy of the perturbed
-    // wire. Where its curvature exceeds the yield curvature the wire starts
-    // plastically pre-bent (the return mapping from a virgin state gives the
-    // plastic curvature), so that it starts in an admissible state and the
-    // initial energy is what is elastically stored.
-    Evaluation e;
-    dealii::Vector<double> zero(n_dofs);
-    if (inertia && !explicit_mode)
-      {
-        // M a0 = -f(u0) on the free dofs.
-        evaluate({&u, &zero, &zero, 0.0, 0.0, first_free, last_free, true, 1.0, 0.0, 0.0}, e);
-        dealii::Vector<double> rhs(3 * (last_free - first_free)), x(rhs.size());
-        for (unsigned int i = 0; i < rhs.size(); ++i)
-          rhs[i] = -e.force[3 * first_free + i];
-        if (!solve_linear(rhs, x))
-          throw std::runtime_error("the mass matrix of the initial wire is singular");
-        for (unsigned int i = 0; i < x.size(); ++i)
-          a[3 * first_free + i] = x[i];
-        f_old = e.force;
-      }
-    else
-      evaluate({&u, &zero, &zero, 0.0, 0.0, first_free, last_free, false, 0.0, 1.0, 1.0}, e);
-    // The strains of the initial shape are the reference of the first rates.
-    qp = e.state;
-    if (quasi_static_injection)
-      {
-        // Without inertia the start's perturbation must persist, or the
-        // first steps straighten the wire (its bending energy falls to
-        // round-off) and Newton follows the straight, compressed branch
-        // through the bifurcation. The start shape is made stress-free: its
-        // curvature is taken as the plastic (natural) curvature.
-        for (auto &q : qp)
-          q.plastic.plastic_strain = q.curvature;
-        evaluate({&u, &zero, &zero, 0.0, 0.0, first_free, last_free, false, 0.0, 1.0, 1.0}, e);
-        qp = e.state;
-      }
-    ledger.initial = e.axial + e.shear + e.bending;
-    dissipative_old = e.dissipative;
-    friction_old = e.friction;
   }
 
   void RodModel::Impl::nodes_between(const double sl, const double sr, int &first, int &last) const
