@@ -310,7 +310,8 @@ namespace wirefem::fem
                 : std::pair{first, last};
         if (!segment_points.empty())
           {
-            assemble_wall_along(rq, wall_first - 1, wall_last, e);
+            // The segments between the wall's nodes: none reaches into a channel.
+            assemble_wall_along(rq, wall_first, wall_last - 1, e);
             return;
           }
         const bool spring = wall_spring && rq.step > 0.0;
