@@ -12,11 +12,10 @@ namespace wirefem::fem
     segment_points.clear();
     if (n_points == 0)
       return;
-    // Segment k joins nodes k and k + 1 of cell k / p: local node 0 is node
-    // c p, local node 1 node (c + 1) p, local node a > 1 node c p + a - 1.
+    // Segment k joins nodes k and k + 1 of cell k / p.
     const auto &pos = stiffness_shape.node_position;
     const auto local_of = [&](const unsigned int c, const unsigned int node) {
-      return node == c * p ? 0u : node == (c + 1) * p ? 1u : node - c * p + 1;
+      return std::find(cell_node[c].begin(), cell_node[c].end(), node) - cell_node[c].begin();
     };
     const dealii::QGauss<1> gauss(n_points);
     std::array<double, 4> dN{};
@@ -111,6 +110,15 @@ namespace wirefem::fem
     return xp;
   }
 
+  Vec2 RodModel::Impl::point_velocity0(const AssemblyRequest &rq, const ContactPoint &cp) const
+  {
+    Vec2 vp{0.0, 0.0};
+    const auto &nodes = cell_node[cp.cell];
+    for (std::size_t l = 0; l < nodes.size(); ++l)
+      vp += cp.N[l] * rq.velocity0(nodes[l]);
+    return vp;
+  }
+
   unsigned int RodModel::Impl::n_wall_sites() const
   {
     return segment_points.empty() ? n_nodes : (n_nodes - 1) * scene.fem.contact_points;
@@ -129,10 +137,7 @@ namespace wirefem::fem
         {
           const auto &cp = segment_points[k][q];
           const auto &nodes = cell_node[cp.cell];
-          const Vec2 xp = point_position(*rq.u, cp);
-          Vec2 vp{0.0, 0.0};
-          for (std::size_t l = 0; l < nodes.size(); ++l)
-            vp += cp.N[l] * rq.velocity0(nodes[l]);
+          const Vec2 xp = point_position(*rq.u, cp), vp = point_velocity0(rq, cp);
           if (!(spring ? wall_spring_contact(rq, k * n_points + q, xp, cp.weight, cc, e)
                        : wall_contact(radius, wall_settings, cp.weight, xp, vp, rq.friction_c_vel(), cc,
                                       rq.friction_scale())))
@@ -166,12 +171,10 @@ namespace wirefem::fem
           for (const auto &cp : segment_points[a])
             {
               const Vec2 xp = point_position(u1, cp);
-              Vec2 vp{0.0, 0.0};
               const auto &nodes = cell_node[cp.cell];
-              for (std::size_t l = 0; l < nodes.size(); ++l)
-                vp += cp.N[l] * rq.velocity0(nodes[l]);
               const std::array<Vec2, 3> x{{xp, at(seg), at(seg + 1)}};
-              const std::array<Vec2, 3> w0{{vp, rq.velocity0(seg), rq.velocity0(seg + 1)}};
+              const std::array<Vec2, 3> w0{
+                  {point_velocity0(rq, cp), rq.velocity0(seg), rq.velocity0(seg + 1)}};
               double tc, fv;
               const bool touch =
                   point_stretch_contact(self_settings, 0.5 * cp.weight, x, w0, rq.friction_c_vel(),

@@ -24,9 +24,8 @@ namespace wirefem::fem
                                    : s.integrator == scene::Integrator::explicit_lumped
                                        ? "explicit (lumped mass)"
                                        : fmt::format("generalized-alpha rho = {}", s.spectral_radius);
-    const std::string along = impl->segment_points.empty()
-                                  ? ""
-                                  : fmt::format(", contact at {} points a segment", s.contact_points);
+    const std::string along =
+        impl->segment_points.empty() ? "" : fmt::format(", contact at {} points a segment", s.contact_points);
     const std::string rod =
         fmt::format("{} rod, degree {}, h = {:g}, {} dofs{}, {}",
                     s.formulation == scene::Formulation::kirchhoff ? "Kirchhoff" : "Reissner", s.degree,

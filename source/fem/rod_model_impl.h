@@ -462,15 +462,15 @@ namespace wirefem::fem
     /// FEM/Contact points > 0: the wall at the points of segments [first, last).
     void assemble_wall_along(const AssemblyRequest &rq, int first, int last, Evaluation &e);
     Vec2 point_position(const dealii::Vector<double> &x, const ContactPoint &cp) const;
+    Vec2 point_velocity0(const AssemblyRequest &rq, const ContactPoint &cp) const;
     /// The wall's sites: the nodes, or (FEM/Contact points > 0) the contact points.
     unsigned int n_wall_sites() const;
     void assemble_channel_walls(const AssemblyRequest &rq, Evaluation &e);
     void assemble_self_contact(const AssemblyRequest &rq, Evaluation &e);
     /// FEM/Contact points > 0: each candidate segment's points against the other's stretch.
     void assemble_self_contact_along(const AssemblyRequest &rq, Evaluation &e);
-    /// Adds a point-stretch contribution (points: the contact point, the
-    /// segment's two nodes; the contact point alone when seg < 0, a wall
-    /// contact) whose point lies on cell `cell` with shape functions N: its
+    /// Adds a contribution on a point of cell `cell` (shape functions N) and the
+    /// nodes of segment seg (none when seg < 0, a wall contact), the point's
     /// force and tangent carried to the cell's nodes.
     void add_point_on_cell(const AssemblyRequest &rq, const ContactContribution &cc, unsigned int cell,
                            const std::array<double, 4> &N, int seg, Evaluation &e);
