@@ -1287,6 +1287,83 @@ namespace
               << " d with " << limit << " d (" << cuts << " steps cut)\n";
   }
 
+  TEST(RodModel, StepErrorEstimateIsThirdOrderInTheStep)
+  {
+    // From one state of a run with wall contact and friction, one step of
+    // h, h/2 and h/4: the estimate h^2 |beta - 1/6| max |a_{n+1} - a_n| is
+    // the leading term of a local error of order 3 in h. (Step error 1e9:
+    // estimated, never acted on.)
+    const auto s = contact_scene("FEM/Step error=1e9");
+    fem::RodModel m(s);
+    while (m.injected_length() < 12.0)
+      m.step();
+    std::stringstream saved;
+    m.save(saved);
+    std::vector<double> estimate;
+    for (const double h : {0.016, 0.008, 0.004, 0.002})
+      {
+        fem::RodModel r(s);
+        saved.clear();
+        saved.seekg(0);
+        r.load(saved);
+        fem::RodModelProbe::set_next_step(r, h);
+        const double t0 = r.time();
+        r.step();
+        ASSERT_EQ(r.time() - t0, h) << "the step was cut";
+        estimate.push_back(fem::RodModelProbe::error_estimate(r));
+      }
+    for (std::size_t i = 1; i < estimate.size(); ++i)
+      {
+        const double order = std::log2(estimate[i - 1] / estimate[i]);
+        std::cout << "estimate " << estimate[i] << " d, order " << order << "\n";
+        EXPECT_NEAR(order, 3.0, 0.3);
+      }
+  }
+
+  TEST(RodModel, StepErrorSetsTheStepsFromTheEstimate)
+  {
+    // With FEM/Step error the steps grow past the fixed cap where the
+    // wire moves smoothly and shrink where contacts start; every step
+    // above the control's floor (1/64 of its cap) is accepted within four
+    // times the target, and some are made again.
+    const double target = 1e-3;
+    fem::RodModel m(contact_scene("FEM/Step error=" + std::to_string(target)));
+    const double fixed_cap = 0.025, floor = fem::RodModelProbe::step_cap(m) / 64;
+    double shortest = INFINITY, longest = 0.0, worst = 0.0;
+    while (m.injected_length() < 30.0)
+      {
+        const double t0 = m.time();
+        m.step();
+        const double step = m.time() - t0;
+        shortest = std::min(shortest, step);
+        longest = std::max(longest, step);
+        if (step > floor * (1 + 1e-12))
+          worst = std::max(worst, fem::RodModelProbe::error_estimate(m));
+      }
+    EXPECT_GT(longest, 2 * fixed_cap);
+    EXPECT_LT(shortest, fixed_cap);
+    EXPECT_LE(worst, 4 * target);
+    EXPECT_GT(fem::RodModelProbe::error_cuts(m), 0u);
+    std::cout << m.n_steps() << " steps of " << shortest << " to " << longest << ", "
+              << fem::RodModelProbe::error_cuts(m) << " made again; largest accepted estimate " << worst
+              << " d\n";
+  }
+
+  TEST(RodModel, StepErrorSavesAndLoadsBitForBit)
+  {
+    // The next step's length is in the checkpoint, and so are the steps
+    // made again.
+    const auto s = contact_scene("FEM/Step error=1e-4");
+    fem::RodModel straight(s), first(s), resumed(s);
+    checks::run_straight_and_resumed(straight, first, resumed, 20.0, 30.0);
+    EXPECT_GT(fem::RodModelProbe::error_cuts(straight), fem::RodModelProbe::error_cuts(first))
+        << "no step made again after the checkpoint";
+    EXPECT_EQ(straight.n_steps(), resumed.n_steps());
+    EXPECT_EQ(fem::RodModelProbe::error_cuts(straight), fem::RodModelProbe::error_cuts(resumed));
+    EXPECT_EQ(straight.time(), resumed.time());
+    EXPECT_EQ(largest_distance(straight, resumed), 0.0);
+  }
+
   TEST(RodModel, SaveAndLoadContinueBitForBit)
   {
     // With the overlap-growth cut on, whose test reads the last step's
@@ -1427,19 +1504,23 @@ namespace
   {
     // What summary.json records as solver_statistics on the injection
     // scenes, against the counters it is read from.
-    fem::RodModel m(contact_scene("FEM/Overlap growth=0.004"));
+    fem::RodModel m(
+        fem_scene({"Wire/Plasticity/Yield curvature=0.05", "Contact/Friction/Static coefficient=0.5",
+                   "FEM/Overlap growth=0.004", "FEM/Step error=1e-4"}));
     while (m.injected_length() < 20.0)
       m.step();
     std::map<std::string, double> stats;
     for (const auto &[key, value] : m.statistics())
       stats[key] = value;
     const auto &ls = fem::RodModelProbe::linear_statistics(m);
-    EXPECT_EQ(stats.size(), 4u);
+    EXPECT_EQ(stats.size(), 5u);
     EXPECT_EQ(stats["newton_iterations"], fem::RodModelProbe::newton_iterations(m));
     EXPECT_GT(stats["newton_iterations"], 0.0);
     EXPECT_EQ(stats["step_cuts"], m.n_step_cuts());
     EXPECT_EQ(stats["overlap_cuts"], fem::RodModelProbe::overlap_cuts(m));
     EXPECT_GT(stats["overlap_cuts"], 0.0);
+    EXPECT_EQ(stats["error_cuts"], fem::RodModelProbe::error_cuts(m));
+    EXPECT_GT(stats["error_cuts"], 0.0);
     EXPECT_EQ(stats["factorisations"], ls.factorisations + ls.refactorisations);
     EXPECT_GT(stats["factorisations"], 0.0);
   }

@@ -148,6 +148,11 @@ namespace wirefem::fem
     /// FEM/Overlap growth, and the step cap they are measured against.
     static unsigned long overlap_cuts(const RodModel &rod) { return rod.impl->overlap_cuts; }
     static double step_cap(const RodModel &rod) { return rod.impl->dt_max; }
+    /// FEM/Step error: the last step's local error estimate, the steps made
+    /// again for it; the length of the next step, to be set by a test.
+    static double error_estimate(const RodModel &rod) { return rod.impl->error_estimate; }
+    static unsigned long error_cuts(const RodModel &rod) { return rod.impl->error_cuts; }
+    static void set_next_step(RodModel &rod, const double step) { rod.impl->dt = step; }
     /// The wall springs of FEM/Friction law = spring (per node, at the last
     /// accepted step), writable so that a test can make a model forget them.
     static std::vector<contact::FrictionHistory> &wall_springs(RodModel &rod)

@@ -4,7 +4,7 @@ namespace wirefem::fem
 {
   namespace
   {
-    constexpr std::uint64_t fem_magic = 0x77666d66656d3034ull; // "wfmfem04"
+    constexpr std::uint64_t fem_magic = 0x77666d66656d3035ull; // "wfmfem05"
     // Written byte for byte into the checkpoint: no padding.
     static_assert(sizeof(core::StepReport) == sizeof(double) + 2 * sizeof(int), "StepReport has padding");
   } // namespace
@@ -70,10 +70,12 @@ namespace wirefem::fem
           }
         if (outcome == Outcome::converged)
           break;
-        if (outcome == Outcome::overlap_grew)
+        if (outcome == Outcome::overlap_grew || outcome == Outcome::error_too_large)
           {
-            ++m.overlap_cuts;
-            step *= 0.5;
+            // Shorter: by half for an overlap, by the estimate for an error.
+            const bool overlap = outcome == Outcome::overlap_grew;
+            ++(overlap ? m.overlap_cuts : m.error_cuts);
+            step *= overlap ? 0.5 : std::clamp(0.9 * std::cbrt(m.step_error / m.error_estimate), 0.25, 0.9);
             continue;
           }
         ++m.cuts;
@@ -103,7 +105,11 @@ namespace wirefem::fem
     // iterations, or (modified Newton) at most two tangents in five.
     const std::size_t iterations = m.history.size() - 1;
     const bool easy = iterations <= 3 || (m.modified_newton && m.step_tangents <= 2 && iterations <= 5);
-    m.dt = easy ? std::min(m.dt_max, 1.5 * step) : step;
+    // FEM/Step error (steps with inertia): the step the estimate asks for,
+    // by at most twice (and not longer when Newton had a hard time).
+    const double grow =
+        m.error_estimate > 0 ? std::clamp(0.9 * std::cbrt(m.step_error / m.error_estimate), 0.5, 2.0) : 1.5;
+    m.dt = std::min(m.dt_max, step * (easy ? grow : std::min(grow, 1.0)));
     if (m.dynamic_phase())
       m.after_dynamic_step();
   }
@@ -287,6 +293,7 @@ namespace wirefem::fem
         return {{"newton_iterations", static_cast<double>(m.newton_iterations)},
                 {"step_cuts", static_cast<double>(m.cuts)},
                 {"overlap_cuts", static_cast<double>(m.overlap_cuts)},
+                {"error_cuts", static_cast<double>(m.error_cuts)},
                 {"factorisations", static_cast<double>(ls.factorisations + ls.refactorisations)}};
       }
     return {{"elements", m.n_cells},
@@ -311,6 +318,7 @@ namespace wirefem::fem
     core::write_raw(out, m.steps);
     core::write_raw(out, m.cuts);
     core::write_raw(out, m.overlap_cuts);
+    core::write_raw(out, m.error_cuts);
     core::write_raw(out, m.last_report);
     core::write_raw(out, m.first_free);
     core::write_raw(out, m.last_free);
@@ -347,6 +355,7 @@ namespace wirefem::fem
     m.steps = core::read_raw<unsigned long>(in);
     m.cuts = core::read_raw<unsigned long>(in);
     m.overlap_cuts = core::read_raw<unsigned long>(in);
+    m.error_cuts = core::read_raw<unsigned long>(in);
     m.last_report = core::read_raw<core::StepReport>(in);
     m.first_free = core::read_raw<int>(in);
     m.last_free = core::read_raw<int>(in);
@@ -398,6 +407,8 @@ namespace wirefem::fem
                          impl->snaps, impl->pushes, impl->dynamic_steps);
     if (impl->overlap_growth > 0)
       out << fmt::format("steps cut for overlap growth (FEM/Overlap growth): {}\n", impl->overlap_cuts);
+    if (impl->step_error > 0)
+      out << fmt::format("steps cut for their local error (FEM/Step error): {}\n", impl->error_cuts);
     const auto &ls = impl->lu.statistics();
     if (impl->kept_factors)
       out << fmt::format("GMRES on kept factors: {} solves, {:.2f} iterations each, {} refactorised; "

@@ -220,9 +220,10 @@ namespace wirefem::fem
     std::vector<PointState> qp;
     double t = 0, dt = 0, dt_max = 0;
     unsigned long steps = 0, cuts = 0;
-    /// FEM/Overlap growth (injection set-up; 0: off) and the steps cut for it.
-    double overlap_growth = 0;
-    unsigned long overlap_cuts = 0;
+    /// FEM/Overlap growth (injection set-up; 0: off) and the steps cut for it;
+    /// FEM/Step error (0: off), the last step's estimate, the steps it cut.
+    double overlap_growth = 0, step_error = 0, error_estimate = 0;
+    unsigned long overlap_cuts = 0, error_cuts = 0;
     unsigned long newton_iterations = 0; ///< linear solves of Newton's method in all
     int first_free = 0, last_free = 0;   // free nodes [first, last)
     /// The channels push the wire deeper than `hold` inside them (those nodes
@@ -488,14 +489,16 @@ namespace wirefem::fem
     void rebuild_sparsity(int first, int last, std::vector<contact::SegmentPair> pairs);
     /// How an implicit step ended: committed, Newton failed, converged
     /// to a state whose largest overlap grew by more than FEM/Overlap
-    /// growth, or converged to a state with a contact its candidates
-    /// missed (none but the first committed).
+    /// growth, converged to a state with a contact its candidates missed,
+    /// or converged with a local error above FEM/Step error (none but the
+    /// first committed).
     enum class StepOutcome
     {
       converged,
       not_converged,
       overlap_grew,
-      missed_contact
+      missed_contact,
+      error_too_large
     };
     /// Whether Newton's iteration saw every contact of x: the candidates
     /// (updated at the step's start) cover x, or, rebuilt at x, list no
@@ -514,13 +517,10 @@ namespace wirefem::fem
     double free_residual_norm(const Evaluation &ev, int first, int last) const;
     /// The residual norms of the last step's Newton iterations, for the
     /// WIREFEM_NEWTON_LOG lines.
-    std::string residual_history() const
-    {
-      std::string h;
-      for (const double r : history)
-        h += fmt::format(" {:.2e}", r);
-      return h;
-    }
+    std::string residual_history() const;
+    /// Generalized-alpha's local error of the step x (d, max norm over the
+    /// free dofs [first, last)), for FEM/Step error.
+    double local_error(const StepState &x, int first, int last) const;
     /// The broad phase's candidate pairs for the free range.
     void update_contact_candidates(int first, int last);
     /// The node positions of x, as the broad phase takes them.

@@ -296,6 +296,10 @@ namespace wirefem::fem
   {
     // At most a fifth of a contact's period 2 pi sqrt(rho A / k_n) too (0.028
     // at the default k_n; at 10 k_n the ledger closes to 5e-4, not 2.3%).
+    // FEM/Step error: the local error estimate sets the step, under a cap
+    // ten times as long and not tied to the contact period.
+    if (s.fem.step_error > 0)
+      return std::min(0.25, 0.25 * diameter / s.injection.speed);
     const double contact_step = 0.4 * M_PI * std::sqrt(rhoA / s.contact.normal_stiffness);
     return std::min({0.025, 0.025 * diameter / s.injection.speed, contact_step});
   }
@@ -317,6 +321,7 @@ namespace wirefem::fem
     newton_contraction = s.fem.newton_contraction;
     velocity_predictor = s.fem.velocity_predictor;
     overlap_growth = clamped || capstan ? 0.0 : s.fem.overlap_growth;
+    step_error = s.fem.step_error;
     if (clamped)
       {
         force_scale = s.cantilever.force_scale(w.bending_stiffness);
