@@ -12,7 +12,8 @@
 # uses the r-th seed, REPEAT = their number); DISCRETE_SET and FEM_SET,
 # --set arguments for one model only, e.g.
 #   DISCRETE_SET="Injection/Speed=0.03" FEM_SET="FEM/Integrator=quasi-static"
-# (word-split: no spaces inside a key=value).
+# (split at semicolons if there is one, else at spaces:
+#   FEM_SET="FEM/Step error=1e-2;FEM/Newton tolerance=1e-6").
 set -u
 exe=${WIREFEM:-./build/wirefem}
 [ $# -ge 1 ] || { echo "usage: $0 SCENE.prm [--set Key=value ...]" >&2; exit 2; }
@@ -27,7 +28,8 @@ for r in $(seq 1 "$repeat"); do
     dir="$out/${model}_$r"
     extra=()
     [ ${#seeds[@]} -eq 0 ] || extra+=(--set "Injection/Seed=${seeds[$((r - 1))]}")
-    if [ $model = discrete ]; then sets=(${DISCRETE_SET:-}); else sets=(${FEM_SET:-}); fi
+    if [ $model = discrete ]; then given=${DISCRETE_SET:-}; else given=${FEM_SET:-}; fi
+    if [[ $given == *";"* ]]; then IFS=';' read -ra sets <<< "$given"; else sets=($given); fi
     for kv in "${sets[@]}"; do extra+=(--set "$kv"); done
     "$exe" "$scene" "$@" "${extra[@]}" --set Model=$model --replace --set Output/Directory="$dir" \
       --set Output/Progress=off --set "Output/VTU interval=0" > "$dir.log" 2>&1
