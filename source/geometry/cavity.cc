@@ -1,0 +1,400 @@
+#include <wirefem/geometry/cavity.h>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_2.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+namespace wirefem::geometry
+{
+  namespace
+  {
+    using core::cross;
+    using core::dot;
+    using core::norm;
+    using core::perp;
+
+    constexpr double two_pi = 2.0 * M_PI;
+
+    /// 8-point Gauss-Legendre rule on [0, 1]: nodes and weights.
+    constexpr std::array<double, 8> gauss_x = {{0.019855071751231856, 0.10166676129318664, 0.2372337950418355,
+                                                0.4082826787521751, 0.5917173212478249, 0.7627662049581645,
+                                                0.8983332387068134, 0.9801449282487681}};
+    constexpr std::array<double, 8> gauss_w = {{0.05061426814518813, 0.11119051722668724, 0.15685332293894363,
+                                                0.18134189168918100, 0.18134189168918100, 0.15685332293894363,
+                                                0.11119051722668724, 0.05061426814518813}};
+
+    /// The angle of v's direction, measured from `start` in the direction of
+    /// `sweep`'s sign, in [0, 2 pi).
+    double angle_along(const Vec2 &v, const double start, const double sweep)
+    {
+      double t = std::atan2(v.y, v.x) - start;
+      if (sweep < 0.0)
+        t = -t;
+      t = std::fmod(t, two_pi);
+      return t < 0.0 ? t + two_pi : t;
+    }
+
+    Vec2 arc_point(const Cavity::Piece &c, const double angle)
+    {
+      const double r = std::abs(c.radius);
+      return {c.centre.x + r * std::cos(angle), c.centre.y + r * std::sin(angle)};
+    }
+
+    /// The inward normal of a piece at its point q.
+    Vec2 piece_normal(const Cavity::Piece &c, const Vec2 &q)
+    {
+      if (c.radius == 0.0)
+        return perp((1.0 / c.length) * (c.to - c.from));
+      const Vec2 out = (1.0 / std::abs(c.radius)) * (q - c.centre);
+      return c.radius > 0.0 ? -out : out;
+    }
+
+    /// The point of a piece nearest to p.
+    Vec2 nearest_on_piece(const Cavity::Piece &c, const Vec2 &p)
+    {
+      if (c.radius == 0.0)
+        {
+          const Vec2 e = c.to - c.from;
+          const double t = std::clamp(dot(p - c.from, e) / dot(e, e), 0.0, 1.0);
+          return c.from + t * e;
+        }
+      const Vec2 d = p - c.centre;
+      if (d.x == 0.0 && d.y == 0.0)
+        return c.from;
+      if (angle_along(d, c.start, c.sweep) <= std::abs(c.sweep))
+        return c.centre + (std::abs(c.radius) / norm(d)) * d;
+      return core::norm_square(p - c.from) <= core::norm_square(p - c.to) ? c.from : c.to;
+    }
+
+    /// Contributions of a piece to the integrals of 1, x and y over the
+    /// enclosed area, by Green's theorem: (1/2) closed integral of
+    /// (x dy - y dx), of x^2 dy / 2 and of -y^2 dx / 2.
+    std::array<double, 3> green(const Cavity::Piece &c)
+    {
+      if (c.radius == 0.0)
+        {
+          const Vec2 a = c.from, e = c.to - c.from;
+          return {{0.5 * cross(a, c.to), 0.5 * e.y * (a.x * a.x + a.x * e.x + e.x * e.x / 3.0),
+                   -0.5 * e.x * (a.y * a.y + a.y * e.y + e.y * e.y / 3.0)}};
+        }
+      const double r = std::abs(c.radius);
+      std::array<double, 3> s{};
+      for (std::size_t k = 0; k < gauss_x.size(); ++k)
+        {
+          const double phi = c.start + gauss_x[k] * c.sweep, w = gauss_w[k] * c.sweep;
+          const Vec2 x = arc_point(c, phi);
+          const double dx = -r * std::sin(phi) * w, dy = r * std::cos(phi) * w;
+          s[0] += 0.5 * (x.x * dy - x.y * dx);
+          s[1] += 0.5 * x.x * x.x * dy;
+          s[2] -= 0.5 * x.y * x.y * dx;
+        }
+      return s;
+    }
+
+    /// Faults of a polygon's vertices (counter-clockwise) other than its
+    /// corner radius: repeated or collinear neighbours, crossing edges.
+    void check_vertices(const std::vector<Vec2> &v)
+    {
+      const std::size_t n = v.size();
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          const Vec2 u = v[i] - v[(i + n - 1) % n], w = v[(i + 1) % n] - v[i];
+          if (w.x == 0.0 && w.y == 0.0)
+            throw std::invalid_argument(fmt::format("vertices {} and {} coincide", i + 1, (i + 1) % n + 1));
+          if (std::abs(cross(u, w)) <= 1e-12 * norm(u) * norm(w))
+            throw std::invalid_argument(fmt::format("vertices {}, {} and {} are collinear",
+                                                    (i + n - 1) % n + 1, i + 1, (i + 1) % n + 1));
+        }
+      using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+      CGAL::Polygon_2<Kernel> polygon;
+      for (const auto &p : v)
+        polygon.push_back(Kernel::Point_2(p.x, p.y));
+      if (!polygon.is_simple())
+        throw std::invalid_argument("its edges cross (the polygon is not simple)");
+    }
+  } // namespace
+
+  Cavity Cavity::circle(const double radius)
+  {
+    if (!(radius > 0.0) || !std::isfinite(radius))
+      throw std::invalid_argument("the radius must be positive");
+    Cavity c;
+    c.kind = Shape::circle;
+    c.a = c.b = radius;
+    c.area_ = M_PI * radius * radius;
+    c.perimeter_ = two_pi * radius;
+    return c;
+  }
+
+  Cavity Cavity::ellipse(const double a, const double b)
+  {
+    if (!(a > 0.0) || !(b > 0.0) || !std::isfinite(a) || !std::isfinite(b))
+      throw std::invalid_argument("the semi-axes must be positive");
+    Cavity c;
+    c.kind = Shape::ellipse;
+    c.a = a;
+    c.b = b;
+    c.build_ellipse();
+    return c;
+  }
+
+  Cavity Cavity::polygon(std::vector<Vec2> vertices, const double corner_radius)
+  {
+    if (vertices.size() < 3)
+      throw std::invalid_argument(
+          fmt::format("a polygon needs at least 3 vertices, not {}", vertices.size()));
+    for (const auto &p : vertices)
+      if (!std::isfinite(p.x) || !std::isfinite(p.y))
+        throw std::invalid_argument("a vertex is not a finite number");
+    if (!(corner_radius > 0.0) || !std::isfinite(corner_radius))
+      throw std::invalid_argument("the corner radius must be positive (the wall must be smooth)");
+    double twice_area = 0.0;
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      twice_area += cross(vertices[i], vertices[(i + 1) % vertices.size()]);
+    if (twice_area < 0.0)
+      std::reverse(vertices.begin(), vertices.end());
+    check_vertices(vertices);
+    Cavity c;
+    c.kind = Shape::polygon;
+    c.vertices = std::move(vertices);
+    c.corner_radius = corner_radius;
+    c.build_polygon();
+    return c;
+  }
+
+  void Cavity::build_polygon()
+  {
+    const std::size_t n = vertices.size();
+    const double r = corner_radius;
+    // Each corner's turn and the length of edge its arc takes, r tan(|turn|/2).
+    std::vector<double> turn(n), take(n);
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        const Vec2 u = vertices[i] - vertices[(i + n - 1) % n], w = vertices[(i + 1) % n] - vertices[i];
+        turn[i] = std::atan2(cross(u, w), dot(u, w));
+        take[i] = r * std::tan(0.5 * std::abs(turn[i]));
+      }
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        const std::size_t j = (i + 1) % n;
+        const double edge = norm(vertices[j] - vertices[i]);
+        if (take[i] + take[j] > edge * (1.0 + 1e-12))
+          throw std::invalid_argument(fmt::format(
+              "the corner radius {:g} is too large: the arcs at vertices {} and {} need {:.4g} of "
+              "the edge between them, which is {:.4g} long",
+              r, i + 1, j + 1, take[i] + take[j], edge));
+      }
+    pieces.clear();
+    for (std::size_t k = 1; k <= n; ++k)
+      {
+        // The edge into vertex i, then the arc at vertex i.
+        const std::size_t i = k % n, h = k - 1;
+        const Vec2 e = vertices[i] - vertices[h];
+        const double edge = norm(e);
+        const Vec2 u = (1.0 / edge) * e, w = (1.0 / norm(vertices[(i + 1) % n] - vertices[i])) *
+                                             (vertices[(i + 1) % n] - vertices[i]);
+        const Vec2 from = vertices[h] + take[h] * u, to = vertices[i] - take[i] * u;
+        if (edge - take[h] - take[i] > 0.0)
+          pieces.push_back({from, to, {}, 0.0, 0.0, 0.0, norm(to - from)});
+        Piece arc;
+        arc.from = to;
+        arc.to = vertices[i] + take[i] * w;
+        arc.radius = turn[i] > 0.0 ? r : -r;
+        arc.centre = to + (turn[i] > 0.0 ? r : -r) * perp(u);
+        arc.start = std::atan2(to.y - arc.centre.y, to.x - arc.centre.x);
+        arc.sweep = turn[i];
+        arc.length = r * std::abs(turn[i]);
+        pieces.push_back(arc);
+      }
+    std::array<double, 3> s{};
+    perimeter_ = 0.0;
+    for (const auto &c : pieces)
+      {
+        const auto g = green(c);
+        for (int m = 0; m < 3; ++m)
+          s[m] += g[m];
+        perimeter_ += c.length;
+      }
+    area_ = s[0];
+    centroid_ = {s[1] / s[0], s[2] / s[0]};
+  }
+
+  void Cavity::build_ellipse()
+  {
+    // Arc length against the parameter angle, by Gauss-Legendre on each
+    // of n intervals (the speed is smooth: exact to round-off).
+    const int n = 1024;
+    arc_table.assign(n + 1, 0.0);
+    for (int k = 0; k < n; ++k)
+      {
+        double s = 0.0;
+        for (std::size_t q = 0; q < gauss_x.size(); ++q)
+          {
+            const double phi = two_pi * (k + gauss_x[q]) / n;
+            s += gauss_w[q] * std::hypot(a * std::sin(phi), b * std::cos(phi));
+          }
+        arc_table[k + 1] = arc_table[k] + s * two_pi / n;
+      }
+    area_ = M_PI * a * b;
+    perimeter_ = arc_table.back();
+    centroid_ = {0.0, 0.0};
+  }
+
+  WallPoint Cavity::nearest(const Vec2 &p) const
+  {
+    switch (kind)
+      {
+      case Shape::circle:
+        {
+          const double r = norm(p);
+          const Vec2 out = r > 0.0 ? (1.0 / r) * p : Vec2{1.0, 0.0};
+          return {a * out, -out, a - r};
+        }
+      case Shape::ellipse:
+        return nearest_on_ellipse(p);
+      case Shape::polygon:
+        return nearest_on_polygon(p);
+      }
+    return {};
+  }
+
+  WallPoint Cavity::nearest_on_polygon(const Vec2 &p) const
+  {
+    std::size_t best = 0;
+    Vec2 q = nearest_on_piece(pieces[0], p);
+    double d2 = core::norm_square(p - q);
+    for (std::size_t k = 1; k < pieces.size(); ++k)
+      {
+        const Vec2 qk = nearest_on_piece(pieces[k], p);
+        const double dk = core::norm_square(p - qk);
+        if (dk < d2)
+          best = k, q = qk, d2 = dk;
+      }
+    const Vec2 n = piece_normal(pieces[best], q);
+    return {q, n, dot(p - q, n)};
+  }
+
+  WallPoint Cavity::nearest_on_ellipse(const Vec2 &p) const
+  {
+    // In the first quadrant with e0 >= e1 (axes swapped if needed), the
+    // nearest point is x_i = e_i^2 y_i / (t + e_i^2) for the root t of
+    // sum (e_i y_i / (t + e_i^2))^2 = 1; in scaled form s = t / e1^2, a
+    // convex decreasing function, found by Newton from a point left of
+    // the root (monotone, no overshoot).
+    const bool swap = a < b;
+    const double e0 = swap ? b : a, e1 = swap ? a : b;
+    const double y0 = std::abs(swap ? p.y : p.x), y1 = std::abs(swap ? p.x : p.y);
+    double x0, x1;
+    if (y1 > 0.0 && y0 > 0.0)
+      {
+        const double z0 = y0 / e0, z1 = y1 / e1, r0 = (e0 / e1) * (e0 / e1), n0 = r0 * z0;
+        double s = z1 - 1.0;
+        for (int it = 0; it < 100; ++it)
+          {
+            const double g0 = n0 / (s + r0), g1 = z1 / (s + 1.0);
+            const double g = g0 * g0 + g1 * g1 - 1.0;
+            const double dg = -2.0 * (g0 * g0 / (s + r0) + g1 * g1 / (s + 1.0));
+            const double next = s - g / dg;
+            if (!(next > s) || g <= 0.0)
+              break;
+            s = next;
+          }
+        x0 = r0 * y0 / (s + r0);
+        x1 = y1 / (s + 1.0);
+      }
+    else if (y1 > 0.0)
+      x0 = 0.0, x1 = e1;
+    else
+      {
+        const double numer = e0 * y0, denom = e0 * e0 - e1 * e1;
+        if (numer < denom)
+          {
+            const double xd = numer / denom;
+            x0 = e0 * xd;
+            x1 = e1 * std::sqrt(std::max(0.0, 1.0 - xd * xd));
+          }
+        else
+          x0 = e0, x1 = 0.0;
+      }
+    // Back to p's quadrant and axes.
+    const double sx = (swap ? p.y : p.x) < 0.0 ? -1.0 : 1.0, sy = (swap ? p.x : p.y) < 0.0 ? -1.0 : 1.0;
+    Vec2 q{sx * x0, sy * x1}, out{sx * x0 / (e0 * e0), sy * x1 / (e1 * e1)};
+    if (swap)
+      q = {q.y, q.x}, out = {out.y, out.x};
+    const Vec2 n = (-1.0 / norm(out)) * out;
+    return {q, n, dot(p - q, n)};
+  }
+
+  WallPoint Cavity::at(const double s_in) const
+  {
+    double s = std::fmod(s_in, perimeter_);
+    if (s < 0.0)
+      s += perimeter_;
+    if (kind == Shape::circle)
+      {
+        const Vec2 out{std::cos(s / a), std::sin(s / a)};
+        return {a * out, -out, 0.0};
+      }
+    if (kind == Shape::ellipse)
+      {
+        // The table's interval, then Newton on the parameter angle.
+        const auto it = std::upper_bound(arc_table.begin(), arc_table.end(), s);
+        const auto k = std::clamp<std::ptrdiff_t>(it - arc_table.begin() - 1, 0,
+                                                  static_cast<std::ptrdiff_t>(arc_table.size()) - 2);
+        const double step = two_pi / static_cast<double>(arc_table.size() - 1);
+        double phi =
+            step * static_cast<double>(k) + step * (s - arc_table[k]) / (arc_table[k + 1] - arc_table[k]);
+        for (int i = 0; i < 3; ++i)
+          {
+            // The arc length from the interval's start by Simpson's rule:
+            // the interval is short, so three iterations reach round-off.
+            const double lo = step * static_cast<double>(k);
+            auto speed = [&](const double t) { return std::hypot(a * std::sin(t), b * std::cos(t)); };
+            const double arc =
+                arc_table[k] + (phi - lo) / 6.0 * (speed(lo) + 4.0 * speed(0.5 * (lo + phi)) + speed(phi));
+            phi -= (arc - s) / speed(phi);
+          }
+        const Vec2 q{a * std::cos(phi), b * std::sin(phi)}, out{q.x / (a * a), q.y / (b * b)};
+        return {q, (-1.0 / norm(out)) * out, 0.0};
+      }
+    for (const auto &c : pieces)
+      {
+        if (s <= c.length || &c == &pieces.back())
+          {
+            const double f = std::min(s, c.length);
+            const Vec2 q =
+                c.radius == 0.0
+                    ? c.from + (f / c.length) * (c.to - c.from)
+                    : arc_point(c, c.start + (c.sweep > 0.0 ? 1.0 : -1.0) * f / std::abs(c.radius));
+            return {q, piece_normal(c, q), 0.0};
+          }
+        s -= c.length;
+      }
+    return {};
+  }
+
+  Cavity Cavity::scaled(const double factor) const
+  {
+    if (!(factor > 0.0))
+      throw std::invalid_argument("the scale factor must be positive");
+    switch (kind)
+      {
+      case Shape::circle:
+        return circle(factor * a);
+      case Shape::ellipse:
+        return ellipse(factor * a, factor * b);
+      case Shape::polygon:
+        break;
+      }
+    std::vector<Vec2> v;
+    for (const auto &p : vertices)
+      v.push_back(centroid_ + factor * (p - centroid_));
+    return polygon(std::move(v), factor * corner_radius);
+  }
+} // namespace wirefem::geometry
