@@ -137,10 +137,11 @@ namespace wirefem::fem
         {
           const auto &cp = segment_points[k][q];
           const auto &nodes = cell_node[cp.cell];
-          const Vec2 xp = point_position(*rq.u, cp), vp = point_velocity0(rq, cp);
+          const Vec2 xp = point_position(*rq.u, cp);
+          // The spring law needs no velocity.
           if (!(spring ? wall_spring_contact(rq, k * n_points + q, xp, cp.weight, cc, e)
-                       : wall_contact(radius, wall_settings, cp.weight, xp, vp, rq.friction_c_vel(), cc,
-                                      rq.friction_scale())))
+                       : wall_contact(radius, wall_settings, cp.weight, xp, point_velocity0(rq, cp),
+                                      rq.friction_c_vel(), cc, rq.friction_scale())))
             continue;
           add_point_on_cell(rq, cc, cp.cell, cp.N, -1, e);
           for (std::size_t l = 0; l < nodes.size(); ++l)

@@ -294,12 +294,12 @@ namespace wirefem::fem
 
   double RodModel::Impl::dynamic_step(const scene::RodScene &s) const
   {
-    // At most a fifth of a contact's period 2 pi sqrt(rho A / k_n) too (0.028
-    // at the default k_n; at 10 k_n the ledger closes to 5e-4, not 2.3%).
     // FEM/Step error: the local error estimate sets the step, under a cap
     // ten times as long and not tied to the contact period.
     if (s.fem.step_error > 0)
       return std::min(0.25, 0.25 * diameter / s.injection.speed);
+    // At most a fifth of a contact's period 2 pi sqrt(rho A / k_n) too (0.028
+    // at the default k_n; at 10 k_n the ledger closes to 5e-4, not 2.3%).
     const double contact_step = 0.4 * M_PI * std::sqrt(rhoA / s.contact.normal_stiffness);
     return std::min({0.025, 0.025 * diameter / s.injection.speed, contact_step});
   }

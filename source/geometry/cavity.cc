@@ -29,6 +29,12 @@ namespace wirefem::geometry
                                                 0.18134189168918100, 0.18134189168918100, 0.15685332293894363,
                                                 0.11119051722668724, 0.05061426814518813}};
 
+    /// The speed |dx/dphi| of the ellipse (a cos phi, b sin phi).
+    double ellipse_speed(const double a, const double b, const double phi)
+    {
+      return std::hypot(a * std::sin(phi), b * std::cos(phi));
+    }
+
     /// The angle of v's direction, measured from `start` in the direction of
     /// `sweep`'s sign, in [0, 2 pi).
     double angle_along(const Vec2 &v, const double start, const double sweep)
@@ -237,7 +243,7 @@ namespace wirefem::geometry
         for (std::size_t q = 0; q < gauss_x.size(); ++q)
           {
             const double phi = two_pi * (k + gauss_x[q]) / n;
-            s += gauss_w[q] * std::hypot(a * std::sin(phi), b * std::cos(phi));
+            s += gauss_w[q] * ellipse_speed(a, b, phi);
           }
         arc_table[k + 1] = arc_table[k] + s * two_pi / n;
       }
@@ -350,12 +356,12 @@ namespace wirefem::geometry
         const double step = two_pi / static_cast<double>(arc_table.size() - 1);
         double phi =
             step * static_cast<double>(k) + step * (s - arc_table[k]) / (arc_table[k + 1] - arc_table[k]);
+        const double lo = step * static_cast<double>(k);
+        const auto speed = [&](const double t) { return ellipse_speed(a, b, t); };
         for (int i = 0; i < 3; ++i)
           {
             // The arc length from the interval's start by Simpson's rule:
             // the interval is short, so three iterations reach round-off.
-            const double lo = step * static_cast<double>(k);
-            auto speed = [&](const double t) { return std::hypot(a * std::sin(t), b * std::cos(t)); };
             const double arc =
                 arc_table[k] + (phi - lo) / 6.0 * (speed(lo) + 4.0 * speed(0.5 * (lo + phi)) + speed(phi));
             phi -= (arc - s) / speed(phi);
