@@ -154,6 +154,25 @@ namespace
       }
   }
 
+  TEST(Cavity, EllipsePointsBesideItsAxesAreAsOnThem)
+  {
+    // A point a rounding error off an axis (the initial wire of a run lies
+    // on the x axis) has the nearest wall point of the point on the axis,
+    // or of its mirror image where the nearest point is off the axis.
+    const auto e = Cavity::ellipse(12.25, 8.16);
+    for (const double x : {-11.0, -4.04, 0.5, 7.0})
+      for (const double y : {4.5e-16, -4.5e-16, 1e-300, 1e-12})
+        {
+          const auto on = e.nearest({x, 0.0}), beside = e.nearest({x, y});
+          EXPECT_NEAR(beside.depth, on.depth, 1e-9) << x << ", " << y;
+          EXPECT_NEAR(std::abs(beside.point.y), std::abs(on.point.y), 1e-6) << x << ", " << y;
+          EXPECT_NEAR(beside.point.x, on.point.x, 1e-9) << x << ", " << y;
+        }
+    for (const double y : {-6.0, 3.0})
+      for (const double x : {4.5e-16, -1e-13})
+        EXPECT_NEAR(e.nearest({x, y}).depth, e.nearest({0.0, y}).depth, 1e-9);
+  }
+
   TEST(Cavity, ScaledHalvesTheAreaAboutTheCentroid)
   {
     for (const auto &[name, c] : shapes())

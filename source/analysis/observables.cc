@@ -30,6 +30,36 @@ namespace wirefem::analysis
     }
   } // namespace
 
+  namespace
+  {
+    /// Whether p lies inside the closed polygon (crossing number).
+    bool inside_polygon(const std::vector<Vec2> &poly, const Vec2 &p)
+    {
+      bool in = false;
+      for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
+        {
+          const Vec2 a = poly[i], b = poly[j];
+          if ((a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y))
+            in = !in;
+        }
+      return in;
+    }
+
+    /// The centroid of the area a closed polygon encloses.
+    Vec2 polygon_centroid(const std::vector<Vec2> &poly)
+    {
+      double twice_area = 0.0;
+      Vec2 sum{};
+      for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
+        {
+          const double c = cross(poly[j], poly[i]);
+          twice_area += c;
+          sum = sum + c * (poly[j] + poly[i]);
+        }
+      return (1.0 / (3.0 * twice_area)) * sum;
+    }
+  } // namespace
+
   Morphology classify(const core::WireState &wire, const double spiral_turns)
   {
     Morphology m;
@@ -40,13 +70,20 @@ namespace wirefem::analysis
         m.phase = "classic";
         return m;
       }
+    // The inner region: the disc of radius r / sqrt(2), or the wall shrunk
+    // about its centroid to half the cavity's area.
     const double r_inner = wire.cavity_radius / std::sqrt(2.0);
+    const bool shaped = wire.wall.size() >= 3;
+    const Vec2 centre = shaped ? polygon_centroid(wire.wall) : Vec2{};
+    const auto in_inner = [&](const Vec2 &q) {
+      return shaped ? inside_polygon(wire.wall, centre + std::sqrt(2.0) * (q - centre)) : norm(q) < r_inner;
+    };
     double a = 0.0, b = 0.0, l_in = 0.0, l_out = 0.0;
     for (int k = 0; k < n; ++k)
       {
         const double kappa = k < static_cast<int>(wire.curvature.size()) ? wire.curvature[k] : 0.0;
         const double ds = (k > 0 && k < n - 1) ? 0.5 * (norm(p[k + 1] - p[k]) + norm(p[k] - p[k - 1])) : 0.0;
-        const bool inside = norm(p[k]) < r_inner;
+        const bool inside = in_inner(p[k]);
         (inside ? a : b) += kappa * kappa * ds;
         (inside ? l_in : l_out) += ds;
       }
@@ -57,15 +94,19 @@ namespace wirefem::analysis
     m.inner_wire_fraction = l_in + l_out > 0.0 ? l_in / (l_in + l_out) : 0.0;
     m.curvature_density_ratio = ratio(l_in > 0.0 ? a / l_in : 0.0, l_out > 0.0 ? b / l_out : 0.0);
 
-    // Mirror symmetry about the y axis: the k-th point from the left inlet,
-    // mirrored, against the k-th point from the right inlet (the models'
-    // points are equally spaced along the wire).
+    // Mirror symmetry about the y axis (any other cavity: about the
+    // perpendicular bisector of the wire's ends): the k-th point from the
+    // left inlet, mirrored, against the k-th point from the right inlet (the
+    // models' points are equally spaced along the wire).
     double dev = 0.0;
     const int half = n / 2;
+    const Vec2 middle = 0.5 * (p[0] + p[n - 1]), ends = p[n - 1] - p[0];
+    const Vec2 axis = shaped && norm(ends) > 0.0 ? (1.0 / norm(ends)) * ends : Vec2{1.0, 0.0};
     for (int k = 0; k < half; ++k)
       {
         const Vec2 l = p[k], r = p[n - 1 - k];
-        dev += norm(Vec2{-l.x, l.y} - r);
+        const Vec2 mirrored = shaped ? l - (2.0 * dot(l - middle, axis)) * axis : Vec2{-l.x, l.y};
+        dev += norm(mirrored - r);
       }
     m.symmetry = std::clamp(1.0 - dev / (half * wire.cavity_radius), 0.0, 1.0);
 

@@ -1,6 +1,7 @@
 #include <wirefem/discrete/chain_model.h>
 #include <wirefem/discrete/terms.h>
 #include <wirefem/core/binary.h>
+#include <wirefem/scene/cavity_setup.h>
 
 #include <algorithm>
 #include <array>
@@ -79,6 +80,17 @@ namespace wirefem::discrete
         const double r_inlet = radius - 0.5 * diameter;
         channels.make_tangential(r_inlet, std::lround(M_PI * r_inlet / lambda0) * lambda0);
       }
+    else if (scene::general_wall(scene.cavity, scene.injection))
+      {
+        // Any cavity, channels anywhere: the initial wire is the curve
+        // between the inlets, n0 whole segments long.
+        auto cavity = scene::cavity_wall(scene.cavity);
+        const auto mouths = scene::channel_mouths(cavity, scene.injection);
+        initial_curve = std::make_unique<injection::InitialCurve>(mouths[0], mouths[1]);
+        channels.place(mouths[0].inlet, mouths[0].axis, mouths[1].inlet, mouths[1].axis,
+                       std::lround(initial_curve->length() / lambda0) * lambda0);
+        shaped_wall = std::make_unique<ShapedWall>(std::move(cavity), mouths, diameter);
+      }
     const int n0 = static_cast<int>(std::lround(channels.initial_length() / lambda0));
     const double max_length = scene.injection.maximum_packing_density * M_PI * radius * radius / diameter;
     // The channels push the wire by its nodes deeper than `hold` inside
@@ -91,6 +103,8 @@ namespace wirefem::discrete
     // node enters where wire in the cavity already is.
     if (channels.is_tangential())
       hold += std::sqrt(2.0 * channels.inlet(Side::right).x * diameter) + diameter;
+    // An oblique channel's mouth reaches d tan(angle) further along it.
+    hold += diameter * std::tan(scene.injection.channel_angle * M_PI / 180.0);
     const int extra =
         static_cast<int>(std::ceil(std::max(0.0, max_length - channels.initial_length()) / (2.0 * lambda0))) +
         static_cast<int>(std::ceil(hold / lambda0)) + 8;
@@ -152,6 +166,8 @@ namespace wirefem::discrete
         auto w = std::make_unique<WallContactTerm>(radius, wall, nodes.capacity());
         if (channels.is_tangential())
           w->make_channels_tangential();
+        if (shaped_wall)
+          w->use_shaped_wall(std::make_unique<ShapedWall>(*shaped_wall));
         terms.push_back(std::move(w));
         effects.push_back("wall contact");
       }
@@ -215,6 +231,20 @@ namespace wirefem::discrete
         const double ds = M_PI * channels.inlet(Side::right).x / n0;
         for (int k = left_origin + 1; k < right_origin; ++k)
           nodes.x[k] = channels.initial_s((k - left_origin) * ds).position;
+      }
+    else if (initial_curve)
+      {
+        // The curve between the inlets with the seeded perturbation across
+        // it, its nodes equally spaced along the curve.
+        const double span = initial_curve->length(), ds = span / n0;
+        const injection::InitialShape shape(scene.injection.seed, scene.injection.perturbation, span,
+                                            scene.injection.mirror_asymmetry);
+        for (int k = left_origin + 1; k < right_origin; ++k)
+          {
+            const double xi = (k - left_origin) * ds;
+            const auto q = initial_curve->at(xi);
+            nodes.x[k] = q.position + shape.offset(xi) * q.normal;
+          }
       }
     else
       {
@@ -407,6 +437,12 @@ namespace wirefem::discrete
     core::WireState w;
     w.diameter = diameter;
     w.cavity_radius = radius;
+    if (shaped_wall)
+      {
+        w.wall = shaped_wall->cavity.outline(8 * static_cast<int>(std::ceil(radius)) + 64);
+        for (const auto &m : shaped_wall->mouths)
+          w.channels.push_back({m.inlet, m.axis});
+      }
     w.time = t;
     w.injected_length = injected_length();
     const int k0 = nodes.first + 1, k1 = nodes.last - 2; // the nodes at the inlets

@@ -117,6 +117,19 @@ namespace wirefem::discrete
         }
       return b;
     }
+
+    /// A node at p against a corner of a mouth: whether its surface
+    /// overlaps the corner, by how much, and the unit vector towards it.
+    bool touch_corner(const Vec2 &corner, const Vec2 &p, const double half_d, double &overlap, Vec2 &n)
+    {
+      const Vec2 to_corner = corner - p;
+      const double dc = norm(to_corner);
+      overlap = half_d - dc;
+      if (overlap <= 0.0)
+        return false;
+      n = (1.0 / dc) * to_corner;
+      return true;
+    }
   } // namespace
 
   StabilityBound WallContactTerm::stability_bound(const double mass, const double lambda0) const
@@ -143,6 +156,66 @@ namespace wirefem::discrete
       friction_work.resize(capacity);
   }
 
+  bool WallContactTerm::touch_circle(const Vec2 &p, const double half_d, const double corner_x,
+                                     double &overlap, Vec2 &n) const
+  {
+    const double dist = norm(p);
+    if (!tangential && std::abs(p.y) * radius < half_d * dist)
+      {
+        // Within an opening: the nearest wall is a corner of the mouth.
+        return touch_corner({p.x > 0.0 ? corner_x : -corner_x, p.y > 0.0 ? half_d : -half_d}, p, half_d,
+                            overlap, n);
+      }
+    overlap = dist + half_d - radius;
+    if (overlap <= 0.0)
+      return false;
+    n = (1.0 / dist) * p;
+    return true;
+  }
+
+  ShapedWall::ShapedWall(geometry::Cavity cavity_in, const std::array<injection::ChannelMouth, 2> &mouths_in,
+                         const double diameter)
+    : cavity(std::move(cavity_in))
+    , mouths(mouths_in)
+  {
+    // The largest disc about the centroid inside the wall, less a diameter
+    // and the mouths' reach.
+    double r = cavity.nearest(cavity.centroid()).depth - diameter;
+    for (const auto &m : mouths)
+      for (const auto &q : m.corners)
+        r = std::min(r, norm(q - cavity.centroid()) - diameter);
+    clear_radius = std::max(0.0, r);
+  }
+
+  bool ShapedWall::touch(const Vec2 &p, const double half_d, double &overlap, Vec2 &n) const
+  {
+    const Vec2 q = p - cavity.centroid();
+    if (dot(q, q) < clear_radius * clear_radius)
+      return false;
+    const auto w = cavity.nearest(p);
+    for (const auto &m : mouths)
+      {
+        const double deepest = std::max(m.corner_depth[0], m.corner_depth[1]);
+        const double shallowest = std::min(m.corner_depth[0], m.corner_depth[1]);
+        // In the channel behind the mouth, or nearest to the wall where the
+        // mouth opens it: the wall there is the mouth's corners.
+        const bool behind = w.depth < 0.0 && std::abs(m.across(p)) < m.half_width && m.along(p) < deepest;
+        const double a = m.along(w.point);
+        const bool in_mouth =
+            std::abs(m.across(w.point)) < m.half_width && a > shallowest - 1.0 && a < deepest + 1.0;
+        if (!behind && !in_mouth)
+          continue;
+        const Vec2 to0 = m.corners[0] - p, to1 = m.corners[1] - p;
+        return touch_corner(dot(to0, to0) < dot(to1, to1) ? m.corners[0] : m.corners[1], p, half_d, overlap,
+                            n);
+      }
+    overlap = half_d - w.depth;
+    if (overlap <= 0.0)
+      return false;
+    n = -1.0 * w.normal;
+    return true;
+  }
+
   void WallContactTerm::add_forces(Chain &c, const double dt, StepEnergy &e)
   {
     const double half_d = 0.5 * law.diameter;
@@ -157,28 +230,11 @@ namespace wirefem::discrete
                    : std::pair{c.first, c.last};
     for (int k = left_end; k < right_begin; ++k)
       {
-        const Vec2 p = c.x[k];
-        const double dist = norm(p);
         double overlap;
         Vec2 n; // unit vector from the node towards the wall
-        if (!tangential && std::abs(p.y) * radius < half_d * dist)
-          {
-            // Within an opening: the nearest wall is a corner of the mouth.
-            const Vec2 corner{p.x > 0.0 ? corner_x : -corner_x, p.y > 0.0 ? half_d : -half_d};
-            const Vec2 to_corner = corner - p;
-            const double dc = norm(to_corner);
-            overlap = half_d - dc;
-            if (overlap <= 0.0)
-              continue;
-            n = (1.0 / dc) * to_corner;
-          }
-        else
-          {
-            overlap = dist + half_d - radius;
-            if (overlap <= 0.0)
-              continue;
-            n = (1.0 / dist) * p;
-          }
+        if (!(shaped ? shaped->touch(c.x[k], half_d, overlap, n)
+                     : touch_circle(c.x[k], half_d, corner_x, overlap, n)))
+          continue;
         const double fn = law.normal_stiffness * overlap;
         c.f[k] -= fn * n;
         c.contact_force[k] += fn;

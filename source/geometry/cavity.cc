@@ -299,20 +299,23 @@ namespace wirefem::geometry
     double x0, x1;
     if (y1 > 0.0 && y0 > 0.0)
       {
+        // Newton in u = s + 1 > 0, which starts at u = z1 exactly: in s
+        // the start z1 - 1 rounds to -1 when y1 is tiny.
         const double z0 = y0 / e0, z1 = y1 / e1, r0 = (e0 / e1) * (e0 / e1), n0 = r0 * z0;
-        double s = z1 - 1.0;
+        const double r1 = (e0 - e1) * (e0 + e1) / (e1 * e1); // r0 - 1
+        double u = z1;
         for (int it = 0; it < 100; ++it)
           {
-            const double g0 = n0 / (s + r0), g1 = z1 / (s + 1.0);
+            const double g0 = n0 / (u + r1), g1 = z1 / u;
             const double g = g0 * g0 + g1 * g1 - 1.0;
-            const double dg = -2.0 * (g0 * g0 / (s + r0) + g1 * g1 / (s + 1.0));
-            const double next = s - g / dg;
-            if (!(next > s) || g <= 0.0)
+            const double dg = -2.0 * (g0 * g0 / (u + r1) + g1 * g1 / u);
+            const double next = u - g / dg;
+            if (!(next > u) || g <= 0.0)
               break;
-            s = next;
+            u = next;
           }
-        x0 = r0 * y0 / (s + r0);
-        x1 = y1 / (s + 1.0);
+        x0 = r0 * y0 / (u + r1);
+        x1 = y1 / u;
       }
     else if (y1 > 0.0)
       x0 = 0.0, x1 = e1;
@@ -383,6 +386,14 @@ namespace wirefem::geometry
         s -= c.length;
       }
     return {};
+  }
+
+  std::vector<Vec2> Cavity::outline(const int n) const
+  {
+    std::vector<Vec2> points;
+    for (int k = 0; k < std::max(n, 3); ++k)
+      points.push_back(at(perimeter_ * k / std::max(n, 3)).point);
+    return points;
   }
 
   Cavity Cavity::scaled(const double factor) const

@@ -49,10 +49,12 @@ namespace wirefem::io
     struct Scene
     {
       double size_px = 0.0;
-      double extent = 1.0;     ///< half-width of the viewed square / 1.05 (scene units)
-      double scale = 1.0;      ///< pixels per scene unit
-      double diameter = 1.0;   ///< wire diameter (scene units)
-      bool tangential = false; ///< channels along the wall
+      double extent = 1.0;          ///< half-width of the viewed square / 1.05 (scene units)
+      double scale = 1.0;           ///< pixels per scene unit
+      double diameter = 1.0;        ///< wire diameter (scene units)
+      bool tangential = false;      ///< channels along the wall
+      std::vector<core::Vec2> wall; ///< WireState::wall
+      std::vector<core::WireState::Channel> channels; ///< WireState::channels
 
       struct Segment
       {
@@ -118,7 +120,15 @@ namespace wirefem::io
 
       // A broken radius must not make the picture unusable: fall back to the
       // extent of the wire itself.
-      if (std::isfinite(wire.cavity_radius) && wire.cavity_radius > 0.0)
+      scene.wall = wire.wall;
+      scene.channels = wire.channels;
+      if (!wire.wall.empty())
+        {
+          scene.extent = 0.0;
+          for (const auto &p : wire.wall)
+            scene.extent = std::max(scene.extent, core::norm(p));
+        }
+      else if (std::isfinite(wire.cavity_radius) && wire.cavity_radius > 0.0)
         scene.extent = wire.cavity_radius;
       else
         {
@@ -172,6 +182,78 @@ namespace wirefem::io
       return scene;
     }
 
+    /// The wire and the caption over the cavity already drawn.
+    void draw_wire(cairo_t *cr, const Scene &scene, const std::string &caption)
+    {
+      const double size = scene.size_px;
+      // Wire: one stroke per segment, because width and colour vary along it.
+      cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+      for (const auto &s : scene.segments)
+        {
+          cairo_set_source_rgb(cr, s.grey, s.grey, s.grey);
+          cairo_set_line_width(cr, s.width_px);
+          cairo_move_to(cr, s.x0, s.y0);
+          cairo_line_to(cr, s.x1, s.y1);
+          cairo_stroke(cr);
+        }
+
+      if (!caption.empty())
+        {
+          const double font_px = std::max(10.0, size / 60.0);
+          cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+          cairo_set_font_size(cr, font_px);
+          cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+          cairo_move_to(cr, 0.5 * font_px, size - 0.6 * font_px);
+          cairo_show_text(cr, caption.c_str());
+        }
+    }
+
+    /// Any cavity (WireState::wall): each channel a light strip of width d
+    /// from its inlet back out of the picture, and the wall as a polygon,
+    /// left open across the channels' mouths.
+    void draw_shaped_wall(cairo_t *cr, const Scene &scene, const double thin_px)
+    {
+      const double d = scene.diameter, far = 4.0 * scene.extent;
+      const auto across = [&](const core::WireState::Channel &c, const core::Vec2 &p) {
+        return core::cross(c.axis, p - c.inlet);
+      };
+      for (const auto &c : scene.channels)
+        {
+          const core::Vec2 side = (0.5 * d) * core::perp(c.axis), back = far * c.axis;
+          const core::Vec2 corner[4] = {c.inlet + side, c.inlet + side - back, c.inlet - side - back,
+                                        c.inlet - side};
+          cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+          cairo_move_to(cr, scene.px(corner[0].x), scene.py(corner[0].y));
+          for (int k = 1; k < 4; ++k)
+            cairo_line_to(cr, scene.px(corner[k].x), scene.py(corner[k].y));
+          cairo_close_path(cr);
+          cairo_fill(cr);
+          cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+          cairo_set_line_width(cr, thin_px);
+          for (const int k : {0, 2})
+            {
+              cairo_move_to(cr, scene.px(corner[k].x), scene.py(corner[k].y));
+              cairo_line_to(cr, scene.px(corner[k + 1].x), scene.py(corner[k + 1].y));
+            }
+          cairo_stroke(cr);
+        }
+      cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+      cairo_set_line_width(cr, thin_px);
+      const std::size_t n = scene.wall.size();
+      for (std::size_t k = 0; k < n; ++k)
+        {
+          const core::Vec2 a = scene.wall[k], b = scene.wall[(k + 1) % n], m = 0.5 * (a + b);
+          bool open = false;
+          for (const auto &c : scene.channels)
+            open |= std::abs(across(c, m)) < 0.5 * d && core::norm(m - c.inlet) < 2.0 * d;
+          if (open)
+            continue;
+          cairo_move_to(cr, scene.px(a.x), scene.py(a.y));
+          cairo_line_to(cr, scene.px(b.x), scene.py(b.y));
+        }
+      cairo_stroke(cr);
+    }
+
     void draw(cairo_t *cr, const Scene &scene, const std::string &caption)
     {
       const double size = scene.size_px;
@@ -202,6 +284,12 @@ namespace wirefem::io
           }
         cairo_stroke(cr);
       };
+      if (!scene.wall.empty())
+        {
+          draw_shaped_wall(cr, scene, thin_px);
+          draw_wire(cr, scene, caption);
+          return;
+        }
       for (const double side : {-1.0, 1.0})
         if (scene.tangential)
           strip(scene.px(side * r), scene.py(0.0), scene.px(side * (r - d)), side < 0 ? 0.0 : size, true);
@@ -226,26 +314,7 @@ namespace wirefem::io
         cairo_arc(cr, cx, cy, radius_px, 0.0, 2.0 * pi);
       cairo_stroke(cr);
 
-      // Wire: one stroke per segment, because width and colour vary along it.
-      cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-      for (const auto &s : scene.segments)
-        {
-          cairo_set_source_rgb(cr, s.grey, s.grey, s.grey);
-          cairo_set_line_width(cr, s.width_px);
-          cairo_move_to(cr, s.x0, s.y0);
-          cairo_line_to(cr, s.x1, s.y1);
-          cairo_stroke(cr);
-        }
-
-      if (!caption.empty())
-        {
-          const double font_px = std::max(10.0, size / 60.0);
-          cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-          cairo_set_font_size(cr, font_px);
-          cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-          cairo_move_to(cr, 0.5 * font_px, size - 0.6 * font_px);
-          cairo_show_text(cr, caption.c_str());
-        }
+      draw_wire(cr, scene, caption);
     }
 
     void check(const cairo_status_t status, const std::string &what, const std::string &file)

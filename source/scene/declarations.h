@@ -329,6 +329,12 @@ namespace wirefem::scene
   /// (generated from scene/keys/*.json).
   void declare_sections(Declarations &d, Scene &s);
 
+  /// The injection set-up's cavity shape and channel placement
+  /// (section_checks.cc): a wall that cannot be built, channels off the wall
+  /// or overlapping, an initial wire that leaves the cavity, and what the
+  /// FEM does not run yet.
+  void validate_wall(const Scene &s, const std::string &where);
+
   /// Throws InputError "where: key: why" unless ok.
   inline void check(const bool ok, const std::string &where, const std::string &key, const std::string &why)
   {

@@ -146,6 +146,7 @@ namespace wirefem::scene
       s.contact.validate(w);
       d.check_ranges("Injection/", w);
       s.injection.validate(w, s.cavity.radius);
+      validate_wall(s, w);
       if (s.setup == Setup::cantilever)
         {
           d.check_ranges("Cantilever/", w);

@@ -3,13 +3,95 @@
 // than one key's range (`validate`).
 #include "declarations.h"
 
+#include <wirefem/scene/cavity_setup.h>
+
+#include <fmt/format.h>
+
 #include <cmath>
+#include <stdexcept>
 
 namespace wirefem::scene
 {
   void CavityParameters::validate(const std::string &w) const
   {
     check(radius > 1.0, w, "Cavity/Radius", "must be larger than 1 (the wire diameter)");
+    check(shape != CavityShape::ellipse || aspect_ratio >= 1.0, w, "Cavity/Aspect ratio",
+          "must be at least 1 (the long axis is along x)");
+  }
+
+  namespace
+  {
+    /// The polygon's fault names the key it comes from.
+    geometry::Cavity checked_wall(const CavityParameters &c, const std::string &w)
+    {
+      try
+        {
+          return cavity_wall(c);
+        }
+      catch (const std::invalid_argument &e)
+        {
+          const std::string why = e.what();
+          throw InputError(
+              w + ": " +
+              (why.find("corner radius") != std::string::npos ? "Cavity/Corner radius" : "Cavity/Vertices") +
+              ": " + why);
+        }
+    }
+  } // namespace
+
+  void validate_wall(const Scene &s, const std::string &w)
+  {
+    const auto &in = s.injection;
+    check(s.setup != Setup::capstan || s.cavity.shape == CavityShape::circle, w, "Cavity/Shape",
+          "Set-up = capstan runs on the circle");
+    if (s.setup != Setup::injection || !general_wall(s.cavity, in))
+      return;
+    check(
+        !in.tangential_channels, w, "Injection/Channels",
+        "'tangential' runs on the circle with the default Channel positions and angle; turn radial channels "
+        "by Channel angle instead");
+    check(s.model == ModelType::discrete, w,
+          s.cavity.shape != CavityShape::circle ? "Cavity/Shape" : "Injection/Channel positions",
+          "the FEM runs the circle with channels on the x axis only (Model = discrete runs every shape and "
+          "channel)");
+    const auto wall = checked_wall(s.cavity, w);
+    const auto &p = in.channel_positions;
+    check(p.size() == 2, w, "Injection/Channel positions",
+          fmt::format("needs two fractions (left, right channel), not {}", p.size()));
+    for (const double x : p)
+      check(x >= 0.0 && x < 1.0, w, "Injection/Channel positions",
+            fmt::format("{:g} is off the wall: positions are fractions of its length in [0, 1)", x));
+    check(in.channel_angle < 80.0, w, "Injection/Channel angle", "must be below 80 degrees");
+    std::array<injection::ChannelMouth, 2> mouths;
+    try
+      {
+        mouths = channel_mouths(wall, in);
+      }
+    catch (const std::invalid_argument &e)
+      {
+        throw InputError(w + ": Injection/Channel angle: " + e.what());
+      }
+    const double gap = core::norm(mouths[1].inlet - mouths[0].inlet);
+    check(
+        gap >= 4.0, w, "Injection/Channel positions",
+        fmt::format("the channels overlap or nearly so: their inlets are {:.3g} d apart, at least 4 d needed",
+                    gap));
+    // The initial wire's centreline stays at least d/2 from the wall once
+    // it is d from either inlet.
+    const injection::InitialCurve curve(mouths[0], mouths[1]);
+    for (int k = 0; k <= 400; ++k)
+      {
+        const double sk = curve.length() * k / 400.0;
+        if (sk < 1.0 || sk > curve.length() - 1.0)
+          continue;
+        const auto q = curve.at(sk).position;
+        check(wall.nearest(q).depth >= 0.5, w, "Injection/Channel positions",
+              fmt::format("the initial wire between the channels leaves the cavity near ({:.3g}, {:.3g})",
+                          q.x, q.y));
+      }
+    const double phi0 = curve.length() / wall.area();
+    check(in.maximum_packing_density > phi0, w, "Injection/Maximum packing density",
+          fmt::format("must exceed the initial packing density {:.4g}", phi0));
   }
 
   void ContactParameters::resolve()

@@ -33,7 +33,17 @@ namespace wirefem::core
   struct WireState
   {
     double diameter = 1.0;      ///< wire diameter d (the length unit, so 1)
-    double cavity_radius = 1.0; ///< r, units d
+    double cavity_radius = 1.0; ///< r, units d: the cavity's area is pi r^2
+    /// The wall as a closed polygon (counter-clockwise, units d) when the
+    /// cavity is not the circle of radius r about the origin; empty when it is.
+    std::vector<core::Vec2> wall;
+    /// With `wall`: each channel's inlet on the wall and its unit axis into
+    /// the cavity, the left channel first.
+    struct Channel
+    {
+      core::Vec2 inlet, axis;
+    };
+    std::vector<Channel> channels;
     double time = 0.0;
     double injected_length = 0.0; ///< wire length inside the cavity L (units d)
 

@@ -7,6 +7,7 @@
 
 #include <wirefem/core/wire_state.h>
 #include <wirefem/discrete/chain.h>
+#include <wirefem/injection/channel_placement.h>
 #include <wirefem/injection/channels.h>
 #include <wirefem/injection/inlet.h>
 #include <wirefem/scene/parameters.h>
@@ -25,6 +26,7 @@ namespace wirefem::discrete
   class EndLoadTerm;
   class EndThrustTerm;
   class SelfContactTerm;
+  struct ShapedWall;
 
   using core::EnergyLedger;
 
@@ -116,6 +118,10 @@ namespace wirefem::discrete
     double radius, diameter, lambda0, k2;
     double hold = 0.0; ///< depth in the channels beyond which the wire is pushed
     injection::Channels channels;
+    /// A cavity other than the paper's circle, or channels off its x axis
+    /// (scene::general_wall): its wall and the initial wire's curve.
+    std::unique_ptr<ShapedWall> shaped_wall;
+    std::unique_ptr<injection::InitialCurve> initial_curve;
     Chain nodes;
     std::vector<std::unique_ptr<Term>> terms;
     BendingTerm *bending = nullptr;

@@ -5,10 +5,13 @@
 #include <wirefem/contact/broad_phase.h>
 #include <wirefem/contact/friction_law.h>
 #include <wirefem/discrete/chain.h>
+#include <wirefem/geometry/cavity.h>
+#include <wirefem/injection/channel_placement.h>
 #include <wirefem/injection/channels.h>
 #include <wirefem/core/binary.h>
 #include <wirefem/material/moment_curvature_law.h>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
@@ -286,16 +289,36 @@ namespace wirefem::discrete
     bool surface_torque = false;
   };
 
+  /// Any cavity with channels anywhere on its wall (scene::general_wall).
+  struct ShapedWall
+  {
+    geometry::Cavity cavity;
+    std::array<injection::ChannelMouth, 2> mouths;
+    /// No node nearer the centroid than this can touch the wall or a mouth.
+    double clear_radius = 0.0;
+
+    ShapedWall(geometry::Cavity cavity, const std::array<injection::ChannelMouth, 2> &mouths,
+               double diameter);
+    /// Whether a node at p (diameter d) overlaps the wall; if so, by how
+    /// much and the unit vector from the node towards the wall.
+    bool touch(const core::Vec2 &p, double half_d, double &overlap, core::Vec2 &towards) const;
+  };
+
   /// Wire-wall contact: the node's surface stays off the wall, the circle of
   /// radius r with an opening of width d at each channel. A node whose polar
   /// angle lies within an opening meets the opening's nearest corner (the
   /// wall's end at y = +-d/2), so the distance to the wall, and the force, is
-  /// continuous as a node moves across the mouth.
+  /// continuous as a node moves across the mouth. With a ShapedWall the same
+  /// holds for any cavity: a node whose nearest wall point lies in a mouth,
+  /// or that is in a channel behind its mouth, meets the mouth's nearest
+  /// corner.
   class WallContactTerm : public Term
   {
   public:
     /// capacity: number of nodes of the chain (needed with friction).
     WallContactTerm(double radius, const ContactLaw &law, int capacity = 0);
+    /// The wall of any cavity instead of the circle of radius r.
+    void use_shaped_wall(std::unique_ptr<const ShapedWall> wall) { shaped = std::move(wall); }
     /// The channels are tangential (injection/channels.h): the wall is a
     /// whole circle, without the radial mouths, and the wire still in a
     /// channel (the end nodes behind its inlet) is left to the channel walls.
@@ -311,6 +334,11 @@ namespace wirefem::discrete
     double radius;
     ContactLaw law;
     bool tangential = false;
+    std::unique_ptr<const ShapedWall> shaped;
+    /// The circle's rule (above): whether the node at p overlaps the wall,
+    /// by how much, and the unit vector towards it.
+    bool touch_circle(const core::Vec2 &p, double half_d, double corner_x, double &overlap,
+                      core::Vec2 &towards) const;
     std::unordered_map<int, contact::FrictionHistory> history, trial_history;
     FrictionWork friction_work;
   };

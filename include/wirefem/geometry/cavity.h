@@ -59,6 +59,9 @@ namespace wirefem::geometry
     /// there. The start: (a, 0) on the circle and the ellipse; the first
     /// edge's end of its arc at the first vertex on a polygon.
     WallPoint at(double s) const;
+    /// n >= 3 wall points equally spaced in arc length from the start,
+    /// counter-clockwise: the wall as a polygon, for pictures and analysis.
+    std::vector<Vec2> outline(int n) const;
     /// The same shape scaled by factor (> 0) about its centroid.
     Cavity scaled(double factor) const;
 

@@ -22,6 +22,7 @@
 
 #include <wirefem/core/vec2.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -56,6 +57,18 @@ namespace wirefem::injection
       tangential = true;
       inlet_radius = centreline_radius;
       initial_length_ = initial_length;
+      inlets = {{{-centreline_radius, 0.0}, {centreline_radius, 0.0}}};
+      axes = {{{0.0, -1.0}, {0.0, 1.0}}};
+    }
+    /// Puts the channels anywhere (injection/channel_placement.h): each
+    /// inlet and its unit axis into the cavity, and L0 the rest length of
+    /// the initial wire between the inlets.
+    void place(const core::Vec2 &left_inlet, const core::Vec2 &left_axis, const core::Vec2 &right_inlet,
+               const core::Vec2 &right_axis, double initial_length)
+    {
+      inlets = {{left_inlet, right_inlet}};
+      axes = {{left_axis, right_axis}};
+      initial_length_ = initial_length;
     }
     bool is_tangential() const { return tangential; }
     /// Angle of the wire's tangent in both channels, taken along the wire
@@ -84,14 +97,9 @@ namespace wirefem::injection
               wire_angle() + (first_half ? s / rho : 2.0 * M_PI - s / rho)};
     }
 
-    core::Vec2 inlet(Side s) const { return {s == Side::left ? -inlet_radius : inlet_radius, 0.0}; }
+    core::Vec2 inlet(Side s) const { return inlets[static_cast<int>(s)]; }
     /// Unit vector along which the channel pushes, into the cavity.
-    core::Vec2 axis(Side s) const
-    {
-      if (tangential)
-        return {0.0, s == Side::left ? -1.0 : 1.0};
-      return {s == Side::left ? 1.0 : -1.0, 0.0};
-    }
+    core::Vec2 axis(Side s) const { return axes[static_cast<int>(s)]; }
 
     /// Position at time t of the material point S of the wire in channel s.
     core::Vec2 position(Side s, double material_coordinate, double t) const
@@ -143,7 +151,9 @@ namespace wirefem::injection
     }
 
     bool tangential = false;
-    double inlet_radius;    ///< distance of the inlets from the centre
+    double inlet_radius; ///< distance of the inlets from the centre (radial, tangential)
+    std::array<core::Vec2, 2> inlets{{{-inlet_radius, 0.0}, {inlet_radius, 0.0}}};
+    std::array<core::Vec2, 2> axes{{{1.0, 0.0}, {-1.0, 0.0}}};
     double initial_length_; ///< L0
     double speed;           ///< of the first ramp: the slow start's, or the only one
     double ramp;

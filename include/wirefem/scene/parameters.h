@@ -135,9 +135,22 @@ namespace wirefem::scene
     void validate(const std::string &where) const;
   };
 
+  enum class CavityShape
+  {
+    circle,
+    ellipse,
+    polygon
+  };
+
+  /// The cavity. Every shape has the area pi r^2 of the circle of radius r,
+  /// so that phi = d L/(pi r^2) and f = r/d mean the same for all of them.
   struct CavityParameters
   {
     double radius = 10.0; ///< r in units of d (f = r/d)
+    CavityShape shape = CavityShape::circle;
+    double aspect_ratio = 1.5;                                ///< ellipse: a/b >= 1, a along x
+    std::vector<double> vertices{-1, -1, 1, -1, 1, 1, -1, 1}; ///< polygon: x, y pairs
+    double corner_radius = 2.0;                               ///< polygon: rounded corners (d)
 
     void validate(const std::string &where) const;
   };
@@ -193,6 +206,10 @@ namespace wirefem::scene
     double perturbation = 0.5;        ///< amplitude of the initial transverse perturbation (d)
     double mirror_asymmetry = 1.0;    ///< scale of its modes antisymmetric about the mid-plane (0: symmetric)
     bool tangential_channels = false; ///< channels along the wall instead of radial
+    /// Where the channels meet the wall: fractions of the wall's length
+    /// from its start, counter-clockwise; the left channel's, then the right's.
+    std::vector<double> channel_positions{0.5, 0.0};
+    double channel_angle = 0.0;           ///< degrees between each channel and the wall's inward normal
     double maximum_packing_density = 0.6; ///< stop at this phi even if not jammed
     double jamming_force = 50.0;          ///< jammed when the mean inlet force exceeds this (force)
     double jamming_window = 1.0;          ///< injected length over which the force is averaged (d)

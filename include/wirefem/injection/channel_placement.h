@@ -1,0 +1,65 @@
+// Channels anywhere on the cavity's wall, and the wire that starts between
+// them. A channel is a straight guide of width d (the wire diameter) that
+// meets the wall at its inlet, turned clockwise by an angle from the wall's
+// inward normal there. Its mouth is the opening the channel cuts in the
+// wall: the wall between the two corners where the channel's side walls,
+// d/2 either side of its axis, meet it. Lengths in d.
+#pragma once
+
+#include <wirefem/core/vec2.h>
+#include <wirefem/geometry/cavity.h>
+
+#include <array>
+#include <vector>
+
+namespace wirefem::injection
+{
+  struct ChannelMouth
+  {
+    core::Vec2 inlet; ///< where the channel's axis meets the wall
+    core::Vec2 axis;  ///< unit, along the channel into the cavity
+    /// Where the side walls meet the wall: [0] on the left of the axis
+    /// (looking into the cavity), [1] on its right.
+    std::array<core::Vec2, 2> corners;
+    /// Signed distances of the corners past the inlet along the axis.
+    std::array<double, 2> corner_depth{};
+    double half_width = 0.5;
+
+    /// Offset of a point across the axis (positive on its left).
+    double across(const core::Vec2 &p) const { return core::cross(axis, p - inlet); }
+    /// Distance of a point past the inlet along the axis.
+    double along(const core::Vec2 &p) const { return core::dot(axis, p - inlet); }
+  };
+
+  /// The channel at `position` (a fraction of the wall's length from its
+  /// start, counter-clockwise) turned clockwise by `angle` (radians, below
+  /// pi/2) from the inward normal, `width` wide. Throws
+  /// std::invalid_argument when its side walls do not meet the wall within
+  /// a few widths of the inlet.
+  ChannelMouth place_channel(const geometry::Cavity &cavity, double position, double angle, double width);
+
+  /// The initial wire between two channels: the cubic Bezier curve from the
+  /// left inlet along its axis to the right inlet, arriving against the
+  /// right channel's axis, with control points a third of the inlets'
+  /// distance along the axes (a straight line when the channels face each
+  /// other), by arc length.
+  class InitialCurve
+  {
+  public:
+    InitialCurve(const ChannelMouth &left, const ChannelMouth &right);
+    double length() const { return table.back(); }
+    struct Point
+    {
+      core::Vec2 position;
+      core::Vec2 normal; ///< unit, on the left of the direction of travel
+    };
+    /// The point at arc length s in [0, length()] from the left inlet.
+    Point at(double s) const;
+
+  private:
+    std::array<core::Vec2, 4> control;
+    std::vector<double> table; ///< arc length at parameter k / (size - 1)
+    core::Vec2 point(double u) const;
+    core::Vec2 tangent(double u) const;
+  };
+} // namespace wirefem::injection

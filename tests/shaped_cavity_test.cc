@@ -1,0 +1,167 @@
+// Cavities other than the paper's circle and channels anywhere on the wall
+// (scene::general_wall): channel placement, the initial wire's curve, the
+// discrete wall term on any wall against the circle's closed form and
+// against finite differences of its energy, the scene's checks, and runs of
+// the discrete model to jamming.
+#include <wirefem/discrete/terms.h>
+#include <wirefem/injection/channel_placement.h>
+#include <wirefem/scene/cavity_setup.h>
+#include <wirefem/scene/scene_reader.h>
+#include <wirefem/simulation/simulation.h>
+#include "force_check.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+
+namespace
+{
+  using namespace wirefem;
+  using core::Vec2;
+  using discrete::Chain;
+  using discrete::StepEnergy;
+  using injection::ChannelMouth;
+
+  std::array<ChannelMouth, 2> mouths_on(const geometry::Cavity &wall, const double left, const double right,
+                                        const double angle_degrees)
+  {
+    scene::InjectionParameters in;
+    in.channel_positions = {left, right};
+    in.channel_angle = angle_degrees;
+    return scene::channel_mouths(wall, in);
+  }
+
+  TEST(ChannelPlacement, TheDefaultOnTheCircleIsThePapersMouth)
+  {
+    const double r = 7.0, hd = 0.5;
+    const auto m = mouths_on(geometry::Cavity::circle(r), 0.5, 0.0, 0.0);
+    const double corner_x = std::sqrt(r * r - hd * hd);
+    EXPECT_NEAR(m[0].inlet.x, -r, 1e-12);
+    EXPECT_NEAR(m[0].inlet.y, 0.0, 1e-12);
+    EXPECT_NEAR(m[0].axis.x, 1.0, 1e-12);
+    EXPECT_NEAR(m[1].axis.x, -1.0, 1e-12);
+    for (const auto &mouth : m)
+      for (const auto &c : mouth.corners)
+        {
+          EXPECT_NEAR(std::abs(c.x), corner_x, 1e-12);
+          EXPECT_NEAR(std::abs(c.y), hd, 1e-12);
+        }
+  }
+
+  TEST(ChannelPlacement, ObliqueCornersLieOnTheWallAndTheSideWalls)
+  {
+    const double q = std::sqrt(1.5);
+    for (const auto &wall : {geometry::Cavity::circle(10.0), geometry::Cavity::ellipse(10.0 * q, 10.0 / q)})
+      for (const double angle : {30.0, 60.0})
+        for (const auto &m : mouths_on(wall, 0.4, 0.9, angle))
+          {
+            const auto w = wall.nearest(m.inlet);
+            EXPECT_NEAR(w.depth, 0.0, 1e-9);
+            // Turned clockwise from the inward normal by the angle.
+            EXPECT_NEAR(core::dot(m.axis, w.normal), std::cos(angle * M_PI / 180.0), 1e-9);
+            EXPECT_LT(core::cross(w.normal, m.axis), 0.0);
+            for (int side = 0; side < 2; ++side)
+              {
+                EXPECT_NEAR(wall.nearest(m.corners[side]).depth, 0.0, 1e-9);
+                EXPECT_NEAR(m.across(m.corners[side]), side == 0 ? 0.5 : -0.5, 1e-12);
+                EXPECT_NEAR(m.along(m.corners[side]), m.corner_depth[side], 1e-12);
+              }
+          }
+  }
+
+  TEST(ChannelPlacement, TheInitialCurveLeavesAndMeetsTheChannelsAlongTheirAxes)
+  {
+    const auto m = mouths_on(geometry::Cavity::circle(10.0), 0.5, 0.0, 45.0);
+    const injection::InitialCurve curve(m[0], m[1]);
+    const auto a = curve.at(0.0), b = curve.at(curve.length());
+    EXPECT_NEAR(core::norm(a.position - m[0].inlet), 0.0, 1e-12);
+    EXPECT_NEAR(core::norm(b.position - m[1].inlet), 0.0, 1e-12);
+    // The normal is the tangent turned left: the tangent is axis_left at
+    // the start and -axis_right at the end.
+    EXPECT_NEAR(core::norm(a.normal - core::perp(m[0].axis)), 0.0, 1e-9);
+    EXPECT_NEAR(core::norm(b.normal + core::perp(m[1].axis)), 0.0, 1e-9);
+    // Arc length: equal steps along the curve have chords of that length
+    // (to the curvature's second order).
+    const int n = 2000;
+    double chords = 0.0;
+    for (int k = 0; k < n; ++k)
+      chords += core::norm(curve.at(curve.length() * (k + 1) / n).position -
+                           curve.at(curve.length() * k / n).position);
+    EXPECT_NEAR(chords, curve.length(), 1e-6 * curve.length());
+    EXPECT_GT(curve.length(), 20.0); // an S, longer than the diameter
+    // Facing channels: the straight line between the inlets.
+    const auto f = mouths_on(geometry::Cavity::circle(10.0), 0.5, 0.0, 0.0);
+    EXPECT_NEAR(injection::InitialCurve(f[0], f[1]).length(), 20.0, 1e-9);
+  }
+
+  discrete::ContactLaw stiff_law()
+  {
+    discrete::ContactLaw law;
+    law.normal_stiffness = 2000.0;
+    return law;
+  }
+
+  TEST(ShapedWall, OnTheCircleItIsTheCirclesClosedForm)
+  {
+    const double r = 5.0;
+    const auto law = stiff_law();
+    discrete::WallContactTerm circle(r, law);
+    discrete::WallContactTerm shaped(r, law);
+    const auto wall = geometry::Cavity::circle(r);
+    shaped.use_shaped_wall(std::make_unique<discrete::ShapedWall>(wall, mouths_on(wall, 0.5, 0.0, 0.0), 1.0));
+    std::mt19937 gen(3);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Chain c(400);
+    c.first = 0;
+    c.last = 400;
+    for (int k = 0; k < c.last; ++k)
+      {
+        // Inside the wall, most of them within d of it, some at the mouths.
+        const double rho = r - 0.6 * std::abs(u(gen)), phi = M_PI * u(gen);
+        c.x[k] = k % 10 == 0 ? Vec2{(k % 20 ? 1.0 : -1.0) * (r - 0.4 * std::abs(u(gen))), 0.6 * u(gen)}
+                             : Vec2{rho * std::cos(phi), rho * std::sin(phi)};
+      }
+    Chain d = c;
+    StepEnergy ec, ed;
+    circle.add_forces(c, 1e-3, ec);
+    shaped.add_forces(d, 1e-3, ed);
+    ASSERT_GT(ec.n_wall_contacts, 50);
+    EXPECT_EQ(ec.n_wall_contacts, ed.n_wall_contacts);
+    EXPECT_NEAR(ec.contact, ed.contact, 1e-9 * ec.contact);
+    for (int k = 0; k < c.last; ++k)
+      EXPECT_NEAR(core::norm(c.f[k] - d.f[k]), 0.0, 1e-8) << "node " << k;
+  }
+
+  TEST(ShapedWall, ForcesAreTheGradientOfTheEnergyOnAnEllipseWithObliqueChannels)
+  {
+    const double q = std::sqrt(1.5), r = 6.0;
+    const auto wall = geometry::Cavity::ellipse(r * q, r / q);
+    const auto m = mouths_on(wall, 0.5, 0.0, 30.0);
+    discrete::WallContactTerm term(r, stiff_law());
+    term.use_shaped_wall(std::make_unique<discrete::ShapedWall>(wall, m, 1.0));
+    Chain c(10);
+    c.first = 0;
+    c.last = 8;
+    const auto at_wall = [&](const double s, const double depth) {
+      const auto w = wall.at(s * wall.perimeter());
+      return w.point + depth * w.normal;
+    };
+    c.x[0] = at_wall(0.2, 0.3);                                                // pressed into the wall
+    c.x[1] = at_wall(0.7, 0.45);                                               // just touching
+    c.x[2] = m[0].corners[0] + 0.3 * m[0].axis - 0.05 * core::perp(m[0].axis); // in the mouth, at a corner
+    c.x[3] = m[1].corners[1] + 0.2 * m[1].axis + 0.1 * core::perp(m[1].axis);  // the other mouth's corner
+    c.x[4] = m[0].inlet - 1.0 * m[0].axis;                                     // in the channel: free
+    c.x[5] =
+        m[1].inlet - 0.2 * m[1].axis + 0.3 * core::perp(m[1].axis); // at the channel's side, near a corner
+    c.x[6] = {0.5, 0.5};                                            // free
+    c.x[7] = at_wall(0.33, -0.2);                                   // pushed through the wall
+    test::expect_forces_match_energy(term, c, 1e-6);
+    StepEnergy e;
+    term.add_forces(c, 1e-3, e);
+    EXPECT_EQ(c.f[4].x, 0.0);
+    EXPECT_EQ(c.f[6].x, 0.0);
+    EXPECT_GE(e.n_wall_contacts, 5);
+  }
+} // namespace
