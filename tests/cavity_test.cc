@@ -154,6 +154,22 @@ namespace
       }
   }
 
+  TEST(Cavity, CurvatureIsTheTurnOfTheNormalPerLength)
+  {
+    // Between two wall points close together the normal turns by the
+    // curvature times the arc (positive where the wall bends round the
+    // cavity), on every piece of every shape.
+    for (const auto &[name, c] : shapes())
+      for (int k = 0; k < 200; ++k)
+        {
+          const double s = c.perimeter() * (k + 0.5) / 200.0, e = 1e-5;
+          const auto a = c.at(s - e), b = c.at(s + e);
+          const double turn = std::atan2(core::cross(a.normal, b.normal), core::dot(a.normal, b.normal));
+          const double kappa = c.nearest(c.at(s).point).curvature;
+          EXPECT_NEAR(turn / (2.0 * e), kappa, 1e-4 * (1.0 + std::abs(kappa))) << name << " at s = " << s;
+        }
+  }
+
   TEST(Cavity, EllipsePointsBesideItsAxesAreAsOnThem)
   {
     // A point a rounding error off an axis (the initial wire of a run lies

@@ -11,6 +11,7 @@
 #include "rod_probe.h"
 #include <wirefem/simulation/capstan.h>
 #include <wirefem/injection/channels.h>
+#include <wirefem/scene/cavity_setup.h>
 #include <wirefem/scene/scene_reader.h>
 
 #include <deal.II/lac/full_matrix.h>
@@ -135,7 +136,8 @@ namespace
   // The channel walls on one element: gradient against finite differences
   // of the energy, and the tangent against finite differences of the
   // gradient, for degrees 1 and 2, crossing the mouth either way and wholly
-  // inside (where the tangent is exact); the closed form inside for degree 1.
+  // inside (where the tangent is exact), with the mouth across the axis or
+  // aslant; the closed form inside for degree 1.
   TEST(ChannelWall, GradientIsTheDerivativeOfTheEnergy)
   {
     const double k = 2000.0, h = 1.0;
@@ -152,56 +154,61 @@ namespace
         {{0.0, 1.0, 0.5}, {-0.7, 0.02, 0.3, 0.3, -0.2, -0.04}},   // p = 2, curved across the mouth
         {{0.0, 1.0, 0.5}, {0.45, -0.3, -0.6, 0.05, -0.05, -0.1}}, // p = 2, the other way round
     };
-    for (const auto &c : cases)
-      {
-        const unsigned int nd = c.X.size();
-        std::vector<double> grad(nd), gdummy(nd), X = c.X;
-        std::vector<double> tangent(nd * nd);
-        double U;
-        ASSERT_TRUE(fem::channel_wall_element(c.pos, h, k, X.data(), axis, U, grad.data(), tangent.data()));
-        ASSERT_GT(U, 0.0);
-        double scale = 0;
-        for (const double gi : grad)
-          scale = std::max(scale, std::abs(gi));
-        for (unsigned int j = 0; j < nd; ++j)
-          {
-            const double e = 1e-6;
-            double up, um;
-            X[j] = c.X[j] + e;
-            fem::channel_wall_element(c.pos, h, k, X.data(), axis, up, gdummy.data());
-            X[j] = c.X[j] - e;
-            fem::channel_wall_element(c.pos, h, k, X.data(), axis, um, gdummy.data());
-            X[j] = c.X[j];
-            EXPECT_NEAR(grad[j], (up - um) / (2 * e), 1e-6 * scale) << "dof " << j;
-          }
-        double tangent_scale = 0;
-        for (const double t : tangent)
-          tangent_scale = std::max(tangent_scale, std::abs(t));
-        std::vector<double> gp(nd), gm(nd);
-        for (unsigned int j = 0; j < nd; ++j)
-          {
-            const double e = 1e-5;
-            double dummy;
-            X[j] = c.X[j] + e;
-            fem::channel_wall_element(c.pos, h, k, X.data(), axis, dummy, gp.data());
-            X[j] = c.X[j] - e;
-            fem::channel_wall_element(c.pos, h, k, X.data(), axis, dummy, gm.data());
-            X[j] = c.X[j];
-            for (unsigned int i = 0; i < nd; ++i)
-              EXPECT_NEAR(tangent[i * nd + j], (gp[i] - gm[i]) / (2 * e), 1e-5 * tangent_scale)
-                  << "entry " << i << ", " << j;
-          }
-      }
+    // The paper's mouth (s along the axis), and a mouth cut aslant (s
+    // along the normal of a chord 20 degrees off, y across the axis).
+    const Vec2 aslant{std::cos(0.35), std::sin(0.35)};
+    for (const auto &[m, n] : {std::pair{axis, core::perp(axis)}, std::pair{aslant, core::perp(axis)}})
+      for (const auto &c : cases)
+        {
+          const unsigned int nd = c.X.size();
+          std::vector<double> grad(nd), gdummy(nd), X = c.X;
+          std::vector<double> tangent(nd * nd);
+          double U;
+          ASSERT_TRUE(fem::channel_wall_element(c.pos, h, k, X.data(), m, n, U, grad.data(), tangent.data()));
+          ASSERT_GT(U, 0.0);
+          double scale = 0;
+          for (const double gi : grad)
+            scale = std::max(scale, std::abs(gi));
+          for (unsigned int j = 0; j < nd; ++j)
+            {
+              const double e = 1e-6;
+              double up, um;
+              X[j] = c.X[j] + e;
+              fem::channel_wall_element(c.pos, h, k, X.data(), m, n, up, gdummy.data());
+              X[j] = c.X[j] - e;
+              fem::channel_wall_element(c.pos, h, k, X.data(), m, n, um, gdummy.data());
+              X[j] = c.X[j];
+              EXPECT_NEAR(grad[j], (up - um) / (2 * e), 1e-6 * scale) << "dof " << j;
+            }
+          double tangent_scale = 0;
+          for (const double t : tangent)
+            tangent_scale = std::max(tangent_scale, std::abs(t));
+          std::vector<double> gp(nd), gm(nd);
+          for (unsigned int j = 0; j < nd; ++j)
+            {
+              const double e = 1e-5;
+              double dummy;
+              X[j] = c.X[j] + e;
+              fem::channel_wall_element(c.pos, h, k, X.data(), m, n, dummy, gp.data());
+              X[j] = c.X[j] - e;
+              fem::channel_wall_element(c.pos, h, k, X.data(), m, n, dummy, gm.data());
+              X[j] = c.X[j];
+              for (unsigned int i = 0; i < nd; ++i)
+                EXPECT_NEAR(tangent[i * nd + j], (gp[i] - gm[i]) / (2 * e), 1e-5 * tangent_scale)
+                    << "entry " << i << ", " << j;
+            }
+        }
     // Inside, degree 1: (k h/2)(ya^2 + ya yb + yb^2)/3.
     const std::vector<double> X{-2.0, 0.05, -1.0, -0.07};
     double U;
     std::vector<double> grad(4);
-    fem::channel_wall_element({0.0, 1.0}, h, k, X.data(), axis, U, grad.data());
+    fem::channel_wall_element({0.0, 1.0}, h, k, X.data(), axis, core::perp(axis), U, grad.data());
     const double expected = 0.5 * k * h * (0.0025 - 0.0035 + 0.0049) / 3.0;
     EXPECT_NEAR(U, expected, 1e-12 * expected);
     // Wholly outside.
     const std::vector<double> out{0.2, 0.3, 1.1, 0.0};
-    EXPECT_FALSE(fem::channel_wall_element({0.0, 1.0}, h, k, out.data(), axis, U, grad.data()));
+    EXPECT_FALSE(
+        fem::channel_wall_element({0.0, 1.0}, h, k, out.data(), axis, core::perp(axis), U, grad.data()));
   }
 
   TEST(RodElement, TangentIsTheDerivativeOfTheResidual)
@@ -376,6 +383,33 @@ namespace
     return s;
   }
 
+  // A wall contact at x: its tangent against central differences of its
+  // residual and, without friction, its residual against those of its
+  // energy (the force is the energy's gradient).
+  void expect_wall_derivatives(const double R, const fem::ContactSettings &st, const Vec2 &x, const Vec2 &v0,
+                               const double c, const bool friction)
+  {
+    fem::ContactContribution cc, cp, cm;
+    ASSERT_TRUE(fem::wall_contact(R, st, 0.7, x, v0, c, cc));
+    for (int j = 0; j < 2; ++j)
+      {
+        const double h = 1e-7;
+        Vec2 xp = x, xm = x;
+        (j ? xp.y : xp.x) += h;
+        (j ? xm.y : xm.x) -= h;
+        ASSERT_TRUE(fem::wall_contact(R, st, 0.7, xp, v0, c, cp));
+        ASSERT_TRUE(fem::wall_contact(R, st, 0.7, xm, v0, c, cm));
+        for (int i = 0; i < 2; ++i)
+          EXPECT_NEAR((cp.residual[i] - cm.residual[i]) / (2 * h), cc.tangent[i * 2 + j],
+                      1e-5 * std::abs(cc.tangent[i * 2 + j]) + 1e-6)
+              << "at " << x.x << ", " << x.y;
+        if (!friction)
+          {
+            EXPECT_NEAR((cp.energy - cm.energy) / (2 * h), cc.residual[j], 1e-6 * cc.normal_force);
+          }
+      }
+  }
+
   TEST(FemContact, WallForceIsTheGradientAndTangentTheDerivative)
   {
     const double R = 10.0;
@@ -387,7 +421,7 @@ namespace
             const double c = 40.0;
             auto st = settings(friction);
             st.mouths = mouths;
-            fem::ContactContribution cc, cp, cm;
+            fem::ContactContribution cc;
             ASSERT_TRUE(fem::wall_contact(R, st, 0.7, x, v0, c, cc));
             if (!friction)
               {
@@ -403,23 +437,53 @@ namespace
                   EXPECT_GT(std::abs(tangential), 0.01 * std::abs(radial))
                       << "the mouth's corner pushes aslant";
               }
-            for (int j = 0; j < 2; ++j)
-              {
-                const double h = 1e-7;
-                Vec2 xp = x, xm = x;
-                (j ? xp.y : xp.x) += h;
-                (j ? xm.y : xm.x) -= h;
-                ASSERT_TRUE(fem::wall_contact(R, st, 0.7, xp, v0, c, cp));
-                ASSERT_TRUE(fem::wall_contact(R, st, 0.7, xm, v0, c, cm));
-                for (int i = 0; i < 2; ++i)
-                  EXPECT_NEAR((cp.residual[i] - cm.residual[i]) / (2 * h), cc.tangent[i * 2 + j],
-                              1e-5 * std::abs(cc.tangent[i * 2 + j]) + 1e-6);
-                if (!friction)
-                  {
-                    EXPECT_NEAR((cp.energy - cm.energy) / (2 * h), cc.residual[j], 1e-6 * cc.normal_force);
-                  }
-              }
+            expect_wall_derivatives(R, st, x, v0, c, friction);
           }
+  }
+
+  // Any wall (ContactSettings::shaped): on the circle with the paper's
+  // mouths it is the closed form; on an ellipse with channels turned 30
+  // degrees the force is the gradient of the energy and the tangent the
+  // derivative of the residual, against the wall and at the mouths' corners.
+  TEST(FemContact, ShapedWallIsTheCircleOnTheCircleAndItsTangentTheDerivative)
+  {
+    const double R = 10.0;
+    const auto place = [](const geometry::Cavity &wall, const double angle) {
+      scene::InjectionParameters in;
+      in.channel_angle = angle;
+      return std::make_shared<const injection::ChannelledWall>(wall, scene::channel_mouths(wall, in), 1.0);
+    };
+    for (const bool friction : {false, true})
+      {
+        auto plain = settings(friction), shaped = settings(friction);
+        shaped.shaped = place(geometry::Cavity::circle(R), 0.0);
+        const Vec2 v0{0.003, -0.002};
+        for (const Vec2 x : {Vec2{3.0, 9.35}, Vec2{-9.9, 0.2}, Vec2{9.8, -0.25}, Vec2{-6.0, -7.7}})
+          {
+            fem::ContactContribution a, b;
+            ASSERT_TRUE(fem::wall_contact(R, plain, 0.7, x, v0, 40.0, a));
+            ASSERT_TRUE(fem::wall_contact(R, shaped, 0.7, x, v0, 40.0, b));
+            for (int i = 0; i < 2; ++i)
+              EXPECT_NEAR(a.residual[i], b.residual[i], 1e-9 * plain.stiffness);
+            for (int i = 0; i < 4; ++i)
+              EXPECT_NEAR(a.tangent[i], b.tangent[i], 1e-9 * plain.stiffness);
+          }
+      }
+    const double q = std::sqrt(1.5);
+    const auto wall = place(geometry::Cavity::ellipse(R * q, R / q), 30.0);
+    const auto &m = wall->mouths;
+    const auto at_wall = [&](const double s, const double depth) {
+      const auto w = wall->cavity.at(s * wall->cavity.perimeter());
+      return w.point + depth * w.normal;
+    };
+    for (const bool friction : {false, true})
+      for (const Vec2 x : {at_wall(0.2, 0.3), at_wall(0.63, 0.1), m[0].corners[0] + 0.3 * m[0].axis,
+                           m[1].corners[1] + 0.2 * m[1].axis + 0.1 * core::perp(m[1].axis)})
+        {
+          auto st = settings(friction);
+          st.shaped = wall;
+          expect_wall_derivatives(R, st, x, Vec2{0.003, -0.002}, 40.0, friction);
+        }
   }
 
   TEST(FemContact, SpringLawWallTangentIsTheDerivativeAndItsForceTheDiscreteLaw)

@@ -133,7 +133,6 @@ namespace
              {{"Injection/Channels=tangential", "Injection/Channel angle=30"},
               "Injection/Channels",
               "circle"},
-             {{"Model=fem", "Cavity/Shape=ellipse"}, "Cavity/Shape", "the FEM runs the circle"},
              {{"Model=fem", "FEM/Newton=modified", "FEM/Linear solver=kept factors"},
               "FEM/Newton",
               "needs FEM/Linear solver = refactorise"},

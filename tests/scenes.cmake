@@ -57,9 +57,9 @@ string(REGEX REPLACE "\nset Model = [a-z]+" "\nset Model = fem" capstan_scene "$
 file(WRITE ${CMAKE_BINARY_DIR}/capstan_fem.prm
      "${capstan_scene}\nsubsection FEM\n  set Friction law = regularised\nend\n")
 wirefem_bad_input(${CMAKE_BINARY_DIR}/capstan_fem.prm "capstan_fem_force|Capstan/Control=force")
-# Cavity shapes and channels anywhere (discrete model): bad walls and
-# channels are refused, and an ellipse and a rounded square with oblique
-# channels run the classic scene to jamming with the ledger closed (a run
+# Cavity shapes and channels anywhere: bad walls and channels are refused,
+# and an ellipse and a rounded square with oblique channels run the classic
+# scene to jamming in both models with the ledger closed (a run
 # whose energy balance misses 1% exits 3) and overlaps below 0.1 d.
 file(READ ${CMAKE_SOURCE_DIR}/prm/quick.prm square_prm)
 string(REPLACE "set Radius = 10" "set Radius = 10\n  set Shape = polygon" square_prm "${square_prm}")
@@ -68,13 +68,16 @@ wirefem_bad_input(${CMAKE_BINARY_DIR}/quick_square.prm "square_crossing|Cavity/V
                   "square_corner|Cavity/Corner radius=30")
 wirefem_bad_input(${CMAKE_SOURCE_DIR}/prm/quick.prm "channel_off_wall|Injection/Channel positions=0.5, 1.2"
                   "channels_overlap|Injection/Channel positions=0.5, 0.51")
-foreach(shape ellipse polygon)
-  add_test(NAME scene.${shape}_oblique_channels_jam
-           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
-                   -DSETTING=Cavity/Shape=${shape} "-DEXTRA=Cavity/Radius=10|Injection/Channel angle=30|Injection/Maximum packing density=0.8"
-                   -DJAMMED=ON -DMAX_OVERLAP=0.1 -DOUT=${SCENE_OUT}/${shape}_oblique
-                   -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
-  set_tests_properties(scene.${shape}_oblique_channels_jam PROPERTIES LABELS regression)
+foreach(model discrete fem)
+  foreach(shape ellipse polygon)
+    add_test(NAME scene.${shape}_oblique_channels_jam_${model}
+             COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
+                     -DSETTING=Cavity/Shape=${shape} -DMODEL=Model=${model}
+                     "-DEXTRA=Cavity/Radius=10|Injection/Channel angle=30|Injection/Maximum packing density=0.8"
+                     -DJAMMED=ON -DMAX_OVERLAP=0.1 -DOUT=${SCENE_OUT}/${shape}_oblique_${model}
+                     -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+    set_tests_properties(scene.${shape}_oblique_channels_jam_${model} PROPERTIES LABELS regression)
+  endforeach()
 endforeach()
 # Tangential runs through the executable, both models, to their ends
 # without a numerical stop.

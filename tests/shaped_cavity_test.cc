@@ -67,7 +67,11 @@ namespace
                 EXPECT_NEAR(wall.nearest(m.corners[side]).depth, 0.0, 1e-9);
                 EXPECT_NEAR(m.across(m.corners[side]), side == 0 ? 0.5 : -0.5, 1e-12);
                 EXPECT_NEAR(m.along(m.corners[side]), m.corner_depth[side], 1e-12);
+                // The channel walls end on the chord between the corners.
+                EXPECT_NEAR(core::dot(m.corners[side] - m.cut_origin, m.cut_normal), 0.0, 1e-12);
               }
+            EXPECT_NEAR(m.across(m.cut_origin), 0.0, 1e-12);
+            EXPECT_GT(core::dot(m.cut_normal, m.axis), 0.0);
           }
   }
 
@@ -91,6 +95,10 @@ namespace
                            curve.at(curve.length() * k / n).position);
     EXPECT_NEAR(chords, curve.length(), 1e-6 * curve.length());
     EXPECT_GT(curve.length(), 20.0); // an S, longer than the diameter
+    // The turning takes the tangent from the left axis to minus the right.
+    const double start = std::atan2(m[0].axis.y, m[0].axis.x), end = std::atan2(-m[1].axis.y, -m[1].axis.x);
+    EXPECT_NEAR(std::remainder(start + curve.turning() - end, 2.0 * M_PI), 0.0, 1e-9);
+    EXPECT_LT(std::abs(curve.turning()), M_PI); // an S turns back
     // Facing channels: the straight line between the inlets.
     const auto f = mouths_on(geometry::Cavity::circle(10.0), 0.5, 0.0, 0.0);
     EXPECT_NEAR(injection::InitialCurve(f[0], f[1]).length(), 20.0, 1e-9);

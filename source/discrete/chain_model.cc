@@ -87,8 +87,9 @@ namespace wirefem::discrete
         auto cavity = scene::cavity_wall(scene.cavity);
         const auto mouths = scene::channel_mouths(cavity, scene.injection);
         initial_curve = std::make_unique<injection::InitialCurve>(mouths[0], mouths[1]);
-        channels.place(mouths[0].inlet, mouths[0].axis, mouths[1].inlet, mouths[1].axis,
-                       std::lround(initial_curve->length() / lambda0) * lambda0);
+        // Facing channels (the default) turn the wire by 0.
+        channels.place(mouths[0], mouths[1], std::lround(initial_curve->length() / lambda0) * lambda0,
+                       initial_curve->turning());
         shaped_wall = std::make_unique<ShapedWall>(std::move(cavity), mouths, diameter);
       }
     const int n0 = static_cast<int>(std::lround(channels.initial_length() / lambda0));
@@ -438,11 +439,7 @@ namespace wirefem::discrete
     w.diameter = diameter;
     w.cavity_radius = radius;
     if (shaped_wall)
-      {
-        w.wall = shaped_wall->cavity.outline(8 * static_cast<int>(std::ceil(radius)) + 64);
-        for (const auto &m : shaped_wall->mouths)
-          w.channels.push_back({m.inlet, m.axis});
-      }
+      shaped_wall->describe(w);
     w.time = t;
     w.injected_length = injected_length();
     const int k0 = nodes.first + 1, k1 = nodes.last - 2; // the nodes at the inlets

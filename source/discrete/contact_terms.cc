@@ -173,46 +173,13 @@ namespace wirefem::discrete
     return true;
   }
 
-  ShapedWall::ShapedWall(geometry::Cavity cavity_in, const std::array<injection::ChannelMouth, 2> &mouths_in,
-                         const double diameter)
-    : cavity(std::move(cavity_in))
-    , mouths(mouths_in)
+  bool WallContactTerm::touch_shaped(const Vec2 &p, const double half_d, double &overlap, Vec2 &n) const
   {
-    // The largest disc about the centroid inside the wall, less a diameter
-    // and the mouths' reach.
-    double r = cavity.nearest(cavity.centroid()).depth - diameter;
-    for (const auto &m : mouths)
-      for (const auto &q : m.corners)
-        r = std::min(r, norm(q - cavity.centroid()) - diameter);
-    clear_radius = std::max(0.0, r);
-  }
-
-  bool ShapedWall::touch(const Vec2 &p, const double half_d, double &overlap, Vec2 &n) const
-  {
-    const Vec2 q = p - cavity.centroid();
-    if (dot(q, q) < clear_radius * clear_radius)
+    injection::WallTouch touch;
+    if (!shaped->touch(p, half_d, touch))
       return false;
-    const auto w = cavity.nearest(p);
-    for (const auto &m : mouths)
-      {
-        const double deepest = std::max(m.corner_depth[0], m.corner_depth[1]);
-        const double shallowest = std::min(m.corner_depth[0], m.corner_depth[1]);
-        // In the channel behind the mouth, or nearest to the wall where the
-        // mouth opens it: the wall there is the mouth's corners.
-        const bool behind = w.depth < 0.0 && std::abs(m.across(p)) < m.half_width && m.along(p) < deepest;
-        const double a = m.along(w.point);
-        const bool in_mouth =
-            std::abs(m.across(w.point)) < m.half_width && a > shallowest - 1.0 && a < deepest + 1.0;
-        if (!behind && !in_mouth)
-          continue;
-        const Vec2 to0 = m.corners[0] - p, to1 = m.corners[1] - p;
-        return touch_corner(dot(to0, to0) < dot(to1, to1) ? m.corners[0] : m.corners[1], p, half_d, overlap,
-                            n);
-      }
-    overlap = half_d - w.depth;
-    if (overlap <= 0.0)
-      return false;
-    n = -1.0 * w.normal;
+    overlap = touch.overlap;
+    n = touch.towards;
     return true;
   }
 
@@ -232,7 +199,7 @@ namespace wirefem::discrete
       {
         double overlap;
         Vec2 n; // unit vector from the node towards the wall
-        if (!(shaped ? shaped->touch(c.x[k], half_d, overlap, n)
+        if (!(shaped ? touch_shaped(c.x[k], half_d, overlap, n)
                      : touch_circle(c.x[k], half_d, corner_x, overlap, n)))
           continue;
         const double fn = law.normal_stiffness * overlap;
@@ -467,9 +434,12 @@ namespace wirefem::discrete
   bool ChannelTerm::add_segment(Chain &c, const int a, const int b, const injection::Side side,
                                 StepEnergy &e) const
   {
-    const Vec2 axis = channels.axis(side), n = perp(axis), inlet = channels.inlet(side);
-    const Vec2 ra = c.x[a] - inlet, rb = c.x[b] - inlet;
-    const double sa = dot(ra, axis), sb = dot(rb, axis);
+    // s past the mouth along the cut's normal m (the axis for the paper's
+    // channels), y across the axis.
+    const Vec2 m = channels.cut_normal(side), n = perp(channels.axis(side)),
+               origin = channels.cut_origin(side);
+    const Vec2 ra = c.x[a] - origin, rb = c.x[b] - origin;
+    const double sa = dot(ra, m), sb = dot(rb, m);
     if (sa >= 0.0 && sb >= 0.0)
       return false;
     const double ya = dot(ra, n), yb = dot(rb, n);
@@ -507,8 +477,8 @@ namespace wirefem::discrete
     const double di_dsb = y1 * y1 * dt1_dsb - y0 * y0 * dt0_dsb;
     const double w = 0.5 * stiffness * c.lambda0;
     e.contact += w * integral;
-    c.f[a] -= w * (di_dya * n + di_dsa * axis);
-    c.f[b] -= w * (di_dyb * n + di_dsb * axis);
+    c.f[a] -= w * (di_dya * n + di_dsa * m);
+    c.f[b] -= w * (di_dyb * n + di_dsb * m);
     if (sa < 0.0)
       e.max_penetration = std::max(e.max_penetration, std::abs(ya));
     if (sb < 0.0)

@@ -43,13 +43,13 @@ namespace wirefem::fem
     /// dxi*/dX = -(ds/dX)/(ds/dxi) at xi*; its tangent by central
     /// differences of the gradient.
     void add_channel_mouth_terms(const std::vector<double> &pos, const double h, const double k,
-                                 const double *X, const Vec2 &ax, const double cut, const bool inside_first,
-                                 double *grad, double *tangent)
+                                 const double *X, const Vec2 &ax, const Vec2 &n, const double cut,
+                                 const bool inside_first, double *grad, double *tangent)
     {
       const unsigned int nn = pos.size(), nd = 2 * nn;
       NodeValues N, dN;
       lagrange_basis(pos, cut, N.data(), dN.data());
-      const double y = along(nn, N.data(), X, perp(ax)), ds = along(nn, dN.data(), X, ax);
+      const double y = along(nn, N.data(), X, n), ds = along(nn, dN.data(), X, ax);
       const double dU = (inside_first ? 1.0 : -1.0) * 0.5 * k * y * y * h;
       for (unsigned int a = 0; a < nn; ++a)
         {
@@ -65,9 +65,9 @@ namespace wirefem::fem
       for (unsigned int j = 0; j < nd; ++j)
         {
           Xs[j] = X[j] + step;
-          channel_wall_element(pos, h, k, Xs.data(), ax, dummy, gp.data());
+          channel_wall_element(pos, h, k, Xs.data(), ax, n, dummy, gp.data());
           Xs[j] = X[j] - step;
-          channel_wall_element(pos, h, k, Xs.data(), ax, dummy, gm.data());
+          channel_wall_element(pos, h, k, Xs.data(), ax, n, dummy, gm.data());
           Xs[j] = X[j];
           for (unsigned int i = 0; i < nd; ++i)
             tangent[i * nd + j] = (gp[i] - gm[i]) / (2.0 * step);
@@ -76,12 +76,11 @@ namespace wirefem::fem
   } // namespace
 
   bool channel_wall_element(const std::vector<double> &pos, const double h, const double k, const double *X,
-                            const Vec2 &ax, double &U, double *grad, double *tangent)
+                            const Vec2 &ax, const Vec2 &n, double &U, double *grad, double *tangent)
   {
     const unsigned int nn = pos.size(), nd = 2 * nn;
     if (nn < 2 || nn > max_nodes)
       throw std::invalid_argument("channel_wall_element: 2 to 4 nodes (degree 1 to 3)");
-    const Vec2 n = perp(ax);
     NodeValues N, dN;
     auto basis = [&](const double xi) { lagrange_basis(pos, xi, N.data(), dN.data()); };
     basis(0.0);
@@ -134,7 +133,7 @@ namespace wirefem::fem
               tangent[i * nd + j] += k * w * N[i / 2] * N[j / 2] * (i % 2 ? n.y : n.x) * (j % 2 ? n.y : n.x);
       }
     if (crossing)
-      add_channel_mouth_terms(pos, h, k, X, ax, cut, s0 < 0.0, grad, tangent);
+      add_channel_mouth_terms(pos, h, k, X, ax, n, cut, s0 < 0.0, grad, tangent);
     return true;
   }
 } // namespace wirefem::fem

@@ -59,6 +59,34 @@ namespace wirefem::fem
     /// The wall's outward normal n at x and the overlap g, with their
     /// derivatives with respect to x: the circle, or within an opening the
     /// corner of the mouth. Returns false when x does not touch.
+    /// The same for any wall (ContactSettings::shaped), to first order
+    /// about x: the overlap grows along the outward normal n, which turns
+    /// along the wall's tangent t as d n / dx = spread t t^T.
+    bool shaped_wall_geometry(const injection::ChannelledWall &wall, const double diameter, const Vec2 &x,
+                              Fad &nx, Fad &ny, Fad &g)
+    {
+      injection::WallTouch touch;
+      if (!wall.touch(x, 0.5 * diameter, touch))
+        return false;
+      const Fad px(2, 0, x.x), py(2, 1, x.y);
+      if (touch.at_corner)
+        {
+          const Fad dx = touch.corner.x - px, dy = touch.corner.y - py;
+          const Fad dc = sqrt(dx * dx + dy * dy);
+          nx = dx / dc;
+          ny = dy / dc;
+          g = 0.5 * diameter - dc;
+          return true;
+        }
+      const Vec2 n = touch.towards, t = core::perp(n);
+      const Fad ex = px - x.x, ey = py - x.y; // zero, with unit derivatives
+      const Fad along = touch.spread * (t.x * ex + t.y * ey);
+      nx = n.x + along * t.x;
+      ny = n.y + along * t.y;
+      g = touch.overlap + n.x * ex + n.y * ey;
+      return true;
+    }
+
     bool wall_geometry(const double radius, const double diameter, const bool mouths, const Vec2 &x, Fad &nx,
                        Fad &ny, Fad &g)
     {
@@ -105,7 +133,8 @@ namespace wirefem::fem
     bool wall_point(const double radius, const ContactSettings &s, const double weight, const Vec2 &x,
                     WallPoint &w)
     {
-      if (!wall_geometry(radius, s.diameter, s.mouths, x, w.nx, w.ny, w.g))
+      if (!(s.shaped ? shaped_wall_geometry(*s.shaped, s.diameter, x, w.nx, w.ny, w.g)
+                     : wall_geometry(radius, s.diameter, s.mouths, x, w.nx, w.ny, w.g)))
         return false;
       w.px = Fad(2, 0, x.x);
       w.py = Fad(2, 1, x.y);

@@ -370,7 +370,8 @@ namespace wirefem::fem
       for (const Side side : {Side::left, Side::right})
         {
           const double cut = side == Side::left ? left_inlet_S(wall_time) : right_inlet_S(wall_time);
-          const Vec2 inlet = channels.inlet(side), ax = channels.axis(side), n = perp(ax);
+          const Vec2 inlet = channels.cut_origin(side), ax = channels.cut_normal(side),
+                     n = perp(channels.axis(side));
           // Only the wire near the mouth in material terms can be in a
           // channel, and only elements with a free node (deeper than hold
           // behind the mouth) take part.
@@ -392,7 +393,7 @@ namespace wirefem::fem
                   g[2 * a_ + 1] = g[2 * a_] + 1;
                 }
               double energy;
-              if (!channel_wall_element(pos, h, k_channel, X.data(), ax, energy, grad.data(),
+              if (!channel_wall_element(pos, h, k_channel, X.data(), ax, n, energy, grad.data(),
                                         want_tangent ? mat.data() : nullptr))
                 continue;
               for (unsigned int a_ = 0; a_ < nn; ++a_)

@@ -185,6 +185,8 @@ namespace wirefem::fem
     core::WireState w;
     w.diameter = m.diameter;
     w.cavity_radius = m.radius;
+    if (m.wall_settings.shaped)
+      m.wall_settings.shaped->describe(w);
     w.time = m.t;
     w.injected_length = injected_length();
     // The inlets, and the free nodes between them.

@@ -426,9 +426,9 @@ namespace wirefem::fem
     void use_alpha(bool generalized);
     /// The seeded shape at rest, its initial acceleration and stored energy.
     void set_initial_state(const scene::RodScene &s);
-    /// The injection's initial wire: the seeded shape across the cavity (or
-    /// the S between tangential inlets), on the channel axes beyond.
-    void place_injected_wire(const scene::RodScene &s);
+    /// The injection's initial wire (across the cavity, the tangential S or
+    /// the curve between channels anywhere), on the channel axes beyond.
+    void place_injected_wire(const scene::RodScene &s), place_on_initial_curve(const scene::RodScene &s);
 
     int node_dof(unsigned int node, unsigned int c) const { return static_cast<int>(3 * node + c); }
     /// Wire pushed through each channel by this time.

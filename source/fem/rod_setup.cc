@@ -1,5 +1,7 @@
 #include "rod_model_impl.h"
 
+#include <wirefem/scene/cavity_setup.h>
+
 namespace wirefem::fem
 {
   RodModel::Impl::Impl(const scene::RodScene &s)
@@ -117,6 +119,19 @@ namespace wirefem::fem
         const double r_inlet = radius - 0.5 * diameter;
         channels.make_tangential(r_inlet, M_PI * r_inlet);
         hold += std::sqrt(2.0 * r_inlet * diameter) + diameter;
+      }
+    else if (scene::general_wall(s.cavity, s.injection))
+      {
+        // Any cavity, channels anywhere: the initial wire is the curve
+        // between the inlets (not rounded), and an oblique mouth reaches
+        // d tan(angle) further along its channel.
+        auto wall = scene::cavity_wall(s.cavity);
+        const auto mouths = scene::channel_mouths(wall, s.injection);
+        const injection::InitialCurve curve(mouths[0], mouths[1]);
+        channels.place(mouths[0], mouths[1], curve.length(), curve.turning());
+        hold += diameter * std::tan(s.injection.channel_angle * M_PI / 180.0);
+        wall_settings.shaped =
+            std::make_shared<const injection::ChannelledWall>(std::move(wall), mouths, diameter);
       }
     const double L0 = channels.initial_length();
     k_channel = s.contact.normal_stiffness / diameter;
@@ -240,7 +255,9 @@ namespace wirefem::fem
     base.diameter = diameter;
     base.stiffness = con.normal_stiffness;
     base.threshold_velocity = fr.threshold_velocity;
+    const auto shaped = wall_settings.shaped; // build_channel_mesh's
     wall_settings = self_settings = base;
+    wall_settings.shaped = shaped;
     wall_settings.mu_static = fr.wall_static_coefficient;
     wall_settings.mu_dynamic = fr.wall_dynamic_coefficient;
     wall_settings.friction = con.wall_contact && (keep || fr.wall_static_coefficient > 0 || capstan);
@@ -453,7 +470,7 @@ namespace wirefem::fem
         const Vec2 axis = channels.axis(side);
         x[3 * k] = pos.x;
         x[3 * k + 1] = pos.y;
-        x[3 * k + 2] = channels.wire_angle();
+        x[3 * k + 2] = channels.wire_angle(side);
         if (vel)
           {
             (*vel)[3 * k] = speed * axis.x;

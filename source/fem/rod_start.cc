@@ -31,6 +31,8 @@ namespace wirefem::fem
             u[3 * k + 2] = angle;
           }
       }
+    else if (wall_settings.shaped)
+      place_on_initial_curve(s);
     else
       {
         const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, 2.0 * radius,
@@ -43,6 +45,45 @@ namespace wirefem::fem
             u[3 * k + 1] = across ? shape.offset(xi) : 0.0;
             u[3 * k + 2] = across ? std::atan(shape.slope(xi)) : 0.0;
           }
+      }
+  }
+
+  void RodModel::Impl::place_on_initial_curve(const scene::RodScene &s)
+  {
+    // The discrete model's start: the curve between the inlets with the
+    // seeded perturbation across it; the section angle is the direction of
+    // the perturbed curve, continuous from the left channel's on.
+    const auto &mouths = wall_settings.shaped->mouths;
+    const injection::InitialCurve curve(mouths[0], mouths[1]);
+    const double L0 = channels.initial_length();
+    const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, L0,
+                                        s.injection.mirror_asymmetry);
+    const auto at = [&](const double xi) {
+      const auto q = curve.at(xi);
+      return q.position + shape.offset(xi) * q.normal;
+    };
+    double angle = channels.wire_angle(Side::left);
+    for (int k = first_free; k < last_free; ++k)
+      {
+        const double xi = node_S[k] - a_left;
+        Vec2 pos;
+        if (xi <= 0.0 || xi >= L0)
+          {
+            pos = xi <= 0.0 ? channels.position(Side::left, xi, 0.0)
+                            : channels.position(Side::right, L0 - xi, 0.0);
+            angle = channels.wire_angle(xi <= 0.0 ? Side::left : Side::right);
+          }
+        else
+          {
+            pos = at(xi);
+            const double e = 1e-6 * L0;
+            const Vec2 t = at(std::min(xi + e, L0)) - at(std::max(xi - e, 0.0));
+            const double direction = std::atan2(t.y, t.x);
+            angle += std::remainder(direction - angle, 2.0 * M_PI);
+          }
+        u[3 * k] = pos.x;
+        u[3 * k + 1] = pos.y;
+        u[3 * k + 2] = angle;
       }
   }
 

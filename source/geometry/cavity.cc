@@ -260,7 +260,7 @@ namespace wirefem::geometry
         {
           const double r = norm(p);
           const Vec2 out = r > 0.0 ? (1.0 / r) * p : Vec2{1.0, 0.0};
-          return {a * out, -out, a - r};
+          return {a * out, -out, a - r, 1.0 / a};
         }
       case Shape::ellipse:
         return nearest_on_ellipse(p);
@@ -283,7 +283,8 @@ namespace wirefem::geometry
           best = k, q = qk, d2 = dk;
       }
     const Vec2 n = piece_normal(pieces[best], q);
-    return {q, n, dot(p - q, n)};
+    const double radius = pieces[best].radius;
+    return {q, n, dot(p - q, n), radius == 0.0 ? 0.0 : 1.0 / radius};
   }
 
   WallPoint Cavity::nearest_on_ellipse(const Vec2 &p) const
@@ -337,7 +338,9 @@ namespace wirefem::geometry
     if (swap)
       q = {q.y, q.x}, out = {out.y, out.x};
     const Vec2 n = (-1.0 / norm(out)) * out;
-    return {q, n, dot(p - q, n)};
+    // kappa = a b / |dx/dphi|^3 at the parameter angle of q.
+    const double speed = std::hypot(a * q.y / b, b * q.x / a);
+    return {q, n, dot(p - q, n), a * b / (speed * speed * speed)};
   }
 
   WallPoint Cavity::at(const double s_in) const

@@ -69,6 +69,13 @@ namespace wirefem::injection
         m.corner_depth[side] = crossing(cavity, start, m.axis, reach);
         m.corners[side] = start + m.corner_depth[side] * m.axis;
       }
+    const Vec2 chord = m.corners[1] - m.corners[0];
+    m.cut_normal = (1.0 / core::norm(chord)) * core::perp(chord);
+    if (core::dot(m.cut_normal, m.axis) < 0.0)
+      m.cut_normal = -1.0 * m.cut_normal;
+    m.cut_origin =
+        m.inlet +
+        (core::dot(m.corners[0] - m.inlet, m.cut_normal) / core::dot(m.axis, m.cut_normal)) * m.axis;
     return m;
   }
 
@@ -123,5 +130,81 @@ namespace wirefem::injection
       }
     const Vec2 t = tangent(u);
     return {point(u), core::perp((1.0 / core::norm(t)) * t)};
+  }
+
+  double InitialCurve::turning() const
+  {
+    const int n = static_cast<int>(table.size()) - 1;
+    double sum = 0.0;
+    Vec2 before = tangent(0.0);
+    for (int k = 1; k <= n; ++k)
+      {
+        const Vec2 t = tangent(double(k) / n);
+        sum += std::atan2(core::cross(before, t), core::dot(before, t));
+        before = t;
+      }
+    return sum;
+  }
+
+  ChannelledWall::ChannelledWall(geometry::Cavity cavity_in, const std::array<ChannelMouth, 2> &mouths_in,
+                                 const double diameter)
+    : cavity(std::move(cavity_in))
+    , mouths(mouths_in)
+  {
+    // The largest disc about the centroid inside the wall, less a diameter
+    // and the mouths' reach.
+    double r = cavity.nearest(cavity.centroid()).depth - diameter;
+    for (const auto &m : mouths)
+      for (const auto &q : m.corners)
+        r = std::min(r, core::norm(q - cavity.centroid()) - diameter);
+    clear_radius = std::max(0.0, r);
+  }
+
+  void ChannelledWall::describe(core::WireState &w) const
+  {
+    w.wall = cavity.outline(static_cast<int>(std::ceil(1.3 * cavity.perimeter())) + 64);
+    w.channels.clear();
+    for (const auto &m : mouths)
+      w.channels.push_back({m.inlet, m.axis});
+  }
+
+  bool ChannelledWall::touch(const Vec2 &p, const double half_d, WallTouch &out) const
+  {
+    const Vec2 q = p - cavity.centroid();
+    if (core::dot(q, q) < clear_radius * clear_radius)
+      return false;
+    const auto w = cavity.nearest(p);
+    for (const auto &m : mouths)
+      {
+        const double deepest = std::max(m.corner_depth[0], m.corner_depth[1]);
+        const double shallowest = std::min(m.corner_depth[0], m.corner_depth[1]);
+        // In the channel behind the mouth, or nearest to the wall where the
+        // mouth opens it: the wall there is the mouth's corners.
+        const bool behind = w.depth < 0.0 && std::abs(m.across(p)) < m.half_width && m.along(p) < deepest;
+        const double a = m.along(w.point);
+        const bool in_mouth =
+            std::abs(m.across(w.point)) < m.half_width && a > shallowest - 1.0 && a < deepest + 1.0;
+        if (!behind && !in_mouth)
+          continue;
+        const Vec2 to0 = m.corners[0] - p, to1 = m.corners[1] - p;
+        out.at_corner = true;
+        out.corner = core::dot(to0, to0) < core::dot(to1, to1) ? m.corners[0] : m.corners[1];
+        const Vec2 to_corner = out.corner - p;
+        const double dc = core::norm(to_corner);
+        out.overlap = half_d - dc;
+        if (out.overlap <= 0.0)
+          return false;
+        out.towards = (1.0 / dc) * to_corner;
+        return true;
+      }
+    out.overlap = half_d - w.depth;
+    if (out.overlap <= 0.0)
+      return false;
+    out.at_corner = false;
+    out.towards = -1.0 * w.normal;
+    // The outward normal of a wall of curvature kappa turns by
+    // kappa / (1 - kappa depth) per length along the tangent, at depth.
+    out.spread = w.curvature / (1.0 - w.curvature * w.depth);
+    return true;
   }
 } // namespace wirefem::injection

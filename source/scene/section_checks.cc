@@ -50,10 +50,6 @@ namespace wirefem::scene
         !in.tangential_channels, w, "Injection/Channels",
         "'tangential' runs on the circle with the default Channel positions and angle; turn radial channels "
         "by Channel angle instead");
-    check(s.model == ModelType::discrete, w,
-          s.cavity.shape != CavityShape::circle ? "Cavity/Shape" : "Injection/Channel positions",
-          "the FEM runs the circle with channels on the x axis only (Model = discrete runs every shape and "
-          "channel)");
     const auto wall = checked_wall(s.cavity, w);
     const auto &p = in.channel_positions;
     check(p.size() == 2, w, "Injection/Channel positions",

@@ -26,7 +26,6 @@ namespace wirefem::discrete
   class EndLoadTerm;
   class EndThrustTerm;
   class SelfContactTerm;
-  struct ShapedWall;
 
   using core::EnergyLedger;
 
@@ -120,7 +119,7 @@ namespace wirefem::discrete
     injection::Channels channels;
     /// A cavity other than the paper's circle, or channels off its x axis
     /// (scene::general_wall): its wall and the initial wire's curve.
-    std::unique_ptr<ShapedWall> shaped_wall;
+    std::unique_ptr<injection::ChannelledWall> shaped_wall;
     std::unique_ptr<injection::InitialCurve> initial_curve;
     Chain nodes;
     std::vector<std::unique_ptr<Term>> terms;

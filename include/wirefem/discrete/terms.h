@@ -290,19 +290,7 @@ namespace wirefem::discrete
   };
 
   /// Any cavity with channels anywhere on its wall (scene::general_wall).
-  struct ShapedWall
-  {
-    geometry::Cavity cavity;
-    std::array<injection::ChannelMouth, 2> mouths;
-    /// No node nearer the centroid than this can touch the wall or a mouth.
-    double clear_radius = 0.0;
-
-    ShapedWall(geometry::Cavity cavity, const std::array<injection::ChannelMouth, 2> &mouths,
-               double diameter);
-    /// Whether a node at p (diameter d) overlaps the wall; if so, by how
-    /// much and the unit vector from the node towards the wall.
-    bool touch(const core::Vec2 &p, double half_d, double &overlap, core::Vec2 &towards) const;
-  };
+  using ShapedWall = injection::ChannelledWall;
 
   /// Wire-wall contact: the node's surface stays off the wall, the circle of
   /// radius r with an opening of width d at each channel. A node whose polar
@@ -339,6 +327,7 @@ namespace wirefem::discrete
     /// by how much, and the unit vector towards it.
     bool touch_circle(const core::Vec2 &p, double half_d, double corner_x, double &overlap,
                       core::Vec2 &towards) const;
+    bool touch_shaped(const core::Vec2 &p, double half_d, double &overlap, core::Vec2 &towards) const;
     std::unordered_map<int, contact::FrictionHistory> history, trial_history;
     FrictionWork friction_work;
   };

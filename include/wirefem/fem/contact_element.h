@@ -24,8 +24,10 @@
 
 #include <wirefem/contact/friction_law.h>
 #include <wirefem/core/vec2.h>
+#include <wirefem/injection/channel_placement.h>
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace wirefem::fem
@@ -41,6 +43,9 @@ namespace wirefem::fem
     /// The wall has the radial channels' mouths (see wall_contact); false
     /// for a closed circle (tangential channels).
     bool mouths = true;
+    /// Any other cavity or channels off the x axis (scene::general_wall):
+    /// the wall with its mouths, instead of the circle of radius r.
+    std::shared_ptr<const injection::ChannelledWall> shaped;
   };
 
   /// Contribution of one contact on up to four points.
@@ -62,7 +67,7 @@ namespace wirefem::fem
 
   /// Wall of the cavity: a circle of radius r, open over |y| < d/2 at x = +-r
   /// (the radial channels), where the corners of the openings are the
-  /// contact; a closed circle when s.mouths is false.
+  /// contact; a closed circle when s.mouths is false; s.shaped when set.
   /// Returns false when the point does not touch.
   bool wall_contact(double radius, const ContactSettings &s, double weight, const core::Vec2 &x,
                     const core::Vec2 &v0, double c, ContactContribution &out, double friction_scale = 1.0);
@@ -141,8 +146,11 @@ namespace wirefem::fem
   /// The walls of a channel acting on one rod element (Lagrange, nodes at
   /// node_position in [0, 1], rest length h): energy (k/2) times the integral
   /// of y^2 over the part of the element with s < 0, s the distance past the
-  /// mouth along the channel axis and y the offset from it. X holds the node
-  /// positions relative to the mouth (x0, y0, x1, y1, ...). The cut of an
+  /// mouth along `axis` and y the offset along `across`: the channel's axis
+  /// and its normal for the paper's channels, the normal of the mouth's
+  /// chord (between its corners) and the axis' normal for channels anywhere.
+  /// X holds the node positions relative to the mouth (x0, y0, x1, y1, ...),
+  /// a point of the channel's axis on the cut. The cut of an
   /// element crossing the mouth is found by bisection, and the gradient
   /// carries the moving end's term. With `tangent` (2n x 2n, row major) also
   /// the derivative of the gradient: exact for an element wholly inside,
@@ -150,7 +158,7 @@ namespace wirefem::fem
   /// crossing the mouth. Returns false when the element lies wholly outside
   /// (s >= 0 at both ends).
   bool channel_wall_element(const std::vector<double> &node_position, double h, double k, const double *X,
-                            const core::Vec2 &axis, double &energy, double *gradient,
-                            double *tangent = nullptr);
+                            const core::Vec2 &axis, const core::Vec2 &across, double &energy,
+                            double *gradient, double *tangent = nullptr);
 
 } // namespace wirefem::fem

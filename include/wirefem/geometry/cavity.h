@@ -25,6 +25,9 @@ namespace wirefem::geometry
     Vec2 point;         ///< on the wall
     Vec2 normal;        ///< unit, into the cavity
     double depth = 0.0; ///< signed distance of p from the wall, positive inside
+    /// The wall's curvature at `point` (nearest() only): positive where the
+    /// wall bends round the cavity, 1/r on a circle, 0 on a straight edge.
+    double curvature = 0.0;
   };
 
   class Cavity

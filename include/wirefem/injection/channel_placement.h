@@ -7,6 +7,7 @@
 #pragma once
 
 #include <wirefem/core/vec2.h>
+#include <wirefem/core/wire_state.h>
 #include <wirefem/geometry/cavity.h>
 
 #include <array>
@@ -24,6 +25,9 @@ namespace wirefem::injection
     /// Signed distances of the corners past the inlet along the axis.
     std::array<double, 2> corner_depth{};
     double half_width = 0.5;
+    /// The chord between the corners, where the channel walls end: the
+    /// point where it crosses the axis and its unit normal into the cavity.
+    core::Vec2 cut_origin, cut_normal;
 
     /// Offset of a point across the axis (positive on its left).
     double across(const core::Vec2 &p) const { return core::cross(axis, p - inlet); }
@@ -37,6 +41,42 @@ namespace wirefem::injection
   /// std::invalid_argument when its side walls do not meet the wall within
   /// a few widths of the inlet.
   ChannelMouth place_channel(const geometry::Cavity &cavity, double position, double angle, double width);
+
+  /// A point's contact with the wall: how far its surface overlaps it and
+  /// which way, with what the models need for the derivatives.
+  struct WallTouch
+  {
+    double overlap = 0.0;
+    core::Vec2 towards; ///< unit, from the point towards the wall
+    /// Against a mouth's corner (the contact's direction is then from the
+    /// point to `corner`), or against the wall (`spread` is then the
+    /// derivative of `towards` along the wall's tangent t per displacement
+    /// along t: d towards / dx = spread t t^T).
+    bool at_corner = false;
+    core::Vec2 corner;
+    double spread = 0.0;
+  };
+
+  /// Any cavity's wall with the two channels' mouths cut in it: a point
+  /// whose nearest wall point lies in a mouth, or that is in a channel
+  /// behind its mouth, meets the mouth's nearer corner; any other point
+  /// meets the wall. So the contact distance is continuous as the wire
+  /// crosses a mouth.
+  struct ChannelledWall
+  {
+    geometry::Cavity cavity;
+    std::array<ChannelMouth, 2> mouths;
+    /// No point nearer the centroid than this can touch the wall or a mouth.
+    double clear_radius = 0.0;
+
+    ChannelledWall(geometry::Cavity cavity, const std::array<ChannelMouth, 2> &mouths, double diameter);
+    /// Whether a point of the wire's centreline at p, the surface half_d
+    /// away, overlaps the wall.
+    bool touch(const core::Vec2 &p, double half_d, WallTouch &out) const;
+    /// The wall as a polygon (about 1.3 points per d) and the channels, for
+    /// pictures and analysis (core::WireState::wall, channels).
+    void describe(core::WireState &w) const;
+  };
 
   /// The initial wire between two channels: the cubic Bezier curve from the
   /// left inlet along its axis to the right inlet, arriving against the
@@ -55,6 +95,9 @@ namespace wirefem::injection
     };
     /// The point at arc length s in [0, length()] from the left inlet.
     Point at(double s) const;
+    /// The angle the tangent turns through from the left inlet to the right
+    /// one (counter-clockwise positive; 0 for facing channels).
+    double turning() const;
 
   private:
     std::array<core::Vec2, 4> control;

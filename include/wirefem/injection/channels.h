@@ -21,6 +21,7 @@
 #pragma once
 
 #include <wirefem/core/vec2.h>
+#include <wirefem/injection/channel_placement.h>
 
 #include <array>
 #include <cmath>
@@ -57,23 +58,32 @@ namespace wirefem::injection
       tangential = true;
       inlet_radius = centreline_radius;
       initial_length_ = initial_length;
-      inlets = {{{-centreline_radius, 0.0}, {centreline_radius, 0.0}}};
-      axes = {{{0.0, -1.0}, {0.0, 1.0}}};
+      inlets = cut_origins = {{{-centreline_radius, 0.0}, {centreline_radius, 0.0}}};
+      axes = cut_normals = {{{0.0, -1.0}, {0.0, 1.0}}};
+      angles = {{-0.5 * M_PI, -0.5 * M_PI}};
     }
     /// Puts the channels anywhere (injection/channel_placement.h): each
-    /// inlet and its unit axis into the cavity, and L0 the rest length of
-    /// the initial wire between the inlets.
-    void place(const core::Vec2 &left_inlet, const core::Vec2 &left_axis, const core::Vec2 &right_inlet,
-               const core::Vec2 &right_axis, double initial_length)
+    /// channel's inlet, axis and mouth; L0 the rest length of the initial
+    /// wire between the inlets, and the angle its tangent turns through
+    /// from the left inlet to the right one.
+    void place(const ChannelMouth &left, const ChannelMouth &right, double initial_length, double turning)
     {
-      inlets = {{left_inlet, right_inlet}};
-      axes = {{left_axis, right_axis}};
+      inlets = {{left.inlet, right.inlet}};
+      axes = {{left.axis, right.axis}};
+      cut_origins = {{left.cut_origin, right.cut_origin}};
+      cut_normals = {{left.cut_normal, right.cut_normal}};
       initial_length_ = initial_length;
+      const double first = std::atan2(left.axis.y, left.axis.x);
+      angles = {{first, first + turning}};
     }
     bool is_tangential() const { return tangential; }
     /// Angle of the wire's tangent in both channels, taken along the wire
     /// from the left end to the right: 0 (radial) or -pi/2 (tangential).
     double wire_angle() const { return tangential ? -0.5 * M_PI : 0.0; }
+    /// The same in channel s, for channels anywhere: the left channel's
+    /// axis, and at the right one that angle plus the initial wire's turning
+    /// (so the angle is continuous along the wire).
+    double wire_angle(Side s) const { return angles[static_cast<int>(s)]; }
 
     /// A point of the tangential channels' initial S, at arc length s
     /// (0 <= s <= pi r') from the left inlet along its centreline, and the
@@ -100,6 +110,13 @@ namespace wirefem::injection
     core::Vec2 inlet(Side s) const { return inlets[static_cast<int>(s)]; }
     /// Unit vector along which the channel pushes, into the cavity.
     core::Vec2 axis(Side s) const { return axes[static_cast<int>(s)]; }
+    /// The mouth as the channel walls see it (ChannelTerm, the FEM's
+    /// channel elements): the wire is in the channel where it lies behind
+    /// the line through cut_origin (on the axis) normal to cut_normal. For
+    /// the paper's channels the inlet and the axis; for channels anywhere
+    /// the chord between the mouth's corners.
+    core::Vec2 cut_origin(Side s) const { return cut_origins[static_cast<int>(s)]; }
+    core::Vec2 cut_normal(Side s) const { return cut_normals[static_cast<int>(s)]; }
 
     /// Position at time t of the material point S of the wire in channel s.
     core::Vec2 position(Side s, double material_coordinate, double t) const
@@ -154,6 +171,8 @@ namespace wirefem::injection
     double inlet_radius; ///< distance of the inlets from the centre (radial, tangential)
     std::array<core::Vec2, 2> inlets{{{-inlet_radius, 0.0}, {inlet_radius, 0.0}}};
     std::array<core::Vec2, 2> axes{{{1.0, 0.0}, {-1.0, 0.0}}};
+    std::array<double, 2> angles{{0.0, 0.0}}; ///< wire_angle(Side)
+    std::array<core::Vec2, 2> cut_origins{inlets}, cut_normals{axes};
     double initial_length_; ///< L0
     double speed;           ///< of the first ramp: the slow start's, or the only one
     double ramp;
