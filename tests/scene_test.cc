@@ -146,6 +146,24 @@ namespace
       }
   }
 
+  TEST(Scene, PolygonVerticesComeFromAFileBesideTheScene)
+  {
+    const auto dir = std::filesystem::temp_directory_path() / "wirefem_vertex_file";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "square.txt") << "# a square\n-1 -1\n1 -1\n\n1 1   # top right\n-1 1\n";
+    std::ofstream(dir / "bad.txt") << "0 0\n4 x\n";
+    const auto prm = (dir / "scene.prm").string();
+    std::ofstream(prm) << "subsection Cavity\n  set Shape = polygon\n  set Vertex file = square.txt\nend\n";
+    const auto s = read_scene(prm, {"Cavity/Vertices=0, 0, 5, 0, 0, 5"});
+    EXPECT_EQ(s.cavity.vertices, (std::vector<double>{-1, -1, 1, -1, 1, 1, -1, 1}));
+    EXPECT_NE(s.fingerprint.find("Vertex file numbers = -1, -1, 1, -1, 1, 1, -1, 1"), std::string::npos);
+    const auto bad = error_of(prm, {"Cavity/Vertex file=bad.txt"});
+    EXPECT_NE(bad.find("Cavity/Vertex file"), std::string::npos) << bad;
+    EXPECT_NE(bad.find("bad.txt:2: '4 x' is not two numbers"), std::string::npos) << bad;
+    const auto missing = error_of(prm, {"Cavity/Vertex file=none.txt"});
+    EXPECT_NE(missing.find("Cavity/Vertex file: cannot open"), std::string::npos) << missing;
+  }
+
   TEST(Scene, FileErrorsCarryTheLineNumber)
   {
     const auto f =

@@ -1,12 +1,14 @@
 #include "declarations.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include <unistd.h>
 
@@ -229,6 +231,39 @@ namespace wirefem::scene
       if (!path.empty())
         throw InputError(file + ": subsection '" + path.back() + "' is not closed with 'end'");
     }
+
+    /// Cavity/Vertex file: its 'x y' lines into the polygon's vertices, and
+    /// its numbers into the fingerprint.
+    void read_vertex_file(Scene &s, const std::string &scene_file, const std::string &where)
+    {
+      auto &c = s.cavity;
+      if (c.shape != CavityShape::polygon || c.vertex_file.empty())
+        return;
+      std::filesystem::path path(c.vertex_file);
+      if (path.is_relative() && !scene_file.empty())
+        path = std::filesystem::path(scene_file).parent_path() / path;
+      std::ifstream in(path);
+      check(std::filesystem::is_regular_file(path) && in, where, "Cavity/Vertex file",
+            "cannot open '" + path.string() + "'");
+      c.vertices.clear();
+      std::string line;
+      for (int number = 1; std::getline(in, line); ++number)
+        {
+          line = trim(line.substr(0, line.find('#')));
+          if (line.empty())
+            continue;
+          std::istringstream words(line);
+          double x, y;
+          std::string rest;
+          check(static_cast<bool>(words >> x >> y) && !(words >> rest) && std::isfinite(x) &&
+                    std::isfinite(y),
+                where, "Cavity/Vertex file",
+                fmt::format("{}:{}: '{}' is not two numbers 'x y'", path.string(), number, line));
+          c.vertices.push_back(x);
+          c.vertices.push_back(y);
+        }
+      s.fingerprint += fmt::format("\nCavity/Vertex file numbers = {}", fmt::join(c.vertices, ", "));
+    }
   } // namespace
 
   Scene read_scene(const std::string &prm_file, const std::vector<std::string> &overrides)
@@ -253,6 +288,7 @@ namespace wirefem::scene
     s.fingerprint = d.fingerprint();
     s.prm_file = prm_file;
     s.name = prm_file.empty() ? "default" : std::filesystem::path(prm_file).stem().string();
+    read_vertex_file(s, prm_file, file_label);
     validate(s, d, file_label);
     if (s.output.directory.empty())
       s.output.directory = "output/" + s.name;

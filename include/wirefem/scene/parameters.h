@@ -150,6 +150,7 @@ namespace wirefem::scene
     CavityShape shape = CavityShape::circle;
     double aspect_ratio = 1.5;                                ///< ellipse: a/b >= 1, a along x
     std::vector<double> vertices{-1, -1, 1, -1, 1, 1, -1, 1}; ///< polygon: x, y pairs
+    std::string vertex_file;                                  ///< polygon: read the vertices from it
     double corner_radius = 2.0;                               ///< polygon: rounded corners (d)
 
     void validate(const std::string &where) const;
