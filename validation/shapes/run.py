@@ -43,13 +43,15 @@ def runs(seeds, radius):
                                               "Output/Progress=off"] + sets
 
 
-def mean_sd(xs):
+def mean_sd(xs, digits=3):
     xs = [x for x in xs if x is not None and math.isfinite(x)]
     if not xs:
         return "-"
     m = sum(xs) / len(xs)
-    sd = math.sqrt(sum((x - m) ** 2 for x in xs) / (len(xs) - 1)) if len(xs) > 1 else float("nan")
-    return f"{m:.3f} +- {sd:.3f}" if len(xs) > 1 else f"{m:.3f}"
+    if len(xs) == 1:
+        return f"{m:.{digits}f}"
+    sd = math.sqrt(sum((x - m) ** 2 for x in xs) / (len(xs) - 1))
+    return f"{m:.{digits}f} +- {sd:.{digits}f}"
 
 
 def report(results, seeds, radius, command):
@@ -70,7 +72,7 @@ def report(results, seeds, radius, command):
             lines.append(
                 f"| {scene} | {label} | {', '.join(r['morphology'] for r in rs)} "
                 f"| {mean_sd([r['phi_final'] for r in rs])} | {sum(bool(r['jammed']) for r in rs)} of {len(rs)} "
-                f"| {mean_sd([r['loops'] for r in rs])} | {mean_sd([r['symmetry'] for r in rs])} "
+                f"| {mean_sd([r['loops'] for r in rs], 1)} | {mean_sd([r['symmetry'] for r in rs], 2)} "
                 f"| {max(r['max_penetration'] for r in rs):.3f} "
                 f"| {max(abs(r['energy']['balance_error']) for r in rs):.1e} |")
     lines += ["", "![final states, seed 1](final_states.png)", "",
@@ -81,7 +83,7 @@ def report(results, seeds, radius, command):
 
 def montage(outdir, seeds, path):
     from PIL import Image, ImageDraw
-    tile = 260
+    tile = 220
     img = Image.new("RGB", (tile * len(GEOMETRIES), tile * len(SCENES) + 20), "white")
     draw = ImageDraw.Draw(img)
     for i, (scene, _) in enumerate(SCENES):
@@ -91,7 +93,7 @@ def montage(outdir, seeds, path):
                 img.paste(Image.open(png).convert("RGB").resize((tile, tile)), (j * tile, 20 + i * tile))
             if i == 0:
                 draw.text((j * tile + 5, 4), label, fill="black")
-    img.save(path)
+    img.convert("L").save(path, optimize=True)
 
 
 def main():
