@@ -1,9 +1,11 @@
 // Scene reading: defaults, overrides, and one-line errors naming file, key and reason.
+#include <wirefem/scene/cavity_setup.h>
 #include <wirefem/scene/scene_reader.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -130,6 +132,11 @@ namespace
              {{"Injection/Channel positions=0.5, 1.2"}, "Injection/Channel positions", "off the wall"},
              {{"Injection/Channel positions=0.5, 0.51"}, "Injection/Channel positions", "overlap"},
              {{"Injection/Channel angle=85"}, "Injection/Channel angle", "below 80"},
+             {{"Cavity/Shape=polygon", "Cavity/Corner radius=0.5"}, "Cavity/Corner radius", "at least 1"},
+             {{"Cavity/Shape=ellipse", "Cavity/Aspect ratio=20"}, "Cavity/Aspect ratio", "tighter than d"},
+             {{"Cavity/Radius=25", "Injection/Channel positions=0, 0.02674", "Injection/Channel angle=75"},
+              "Injection/Channel positions",
+              "overlap"},
              {{"Injection/Channels=tangential", "Injection/Channel angle=30"},
               "Injection/Channels",
               "circle"},
@@ -162,6 +169,47 @@ namespace
     EXPECT_NE(bad.find("bad.txt:2: '4 x' is not two numbers"), std::string::npos) << bad;
     const auto missing = error_of(prm, {"Cavity/Vertex file=none.txt"});
     EXPECT_NE(missing.find("Cavity/Vertex file: cannot open"), std::string::npos) << missing;
+  }
+
+  TEST(Scene, ChannelsAreCheckedAgainstTheWallTheyCut)
+  {
+    const auto f = write_prm("wirefem_scene_channels.prm", "set Model = discrete\n");
+    // Steep channels on the circle are fine: the wire leaves them through
+    // the mouth, clear of its corners.
+    for (const auto angle : {"30", "60", "75"})
+      EXPECT_EQ(error_of(f, {"Cavity/Radius=25", std::string("Injection/Channel angle=") + angle}), "")
+          << angle;
+    // A U-shaped cavity with a channel in the inner side of its left arm,
+    // pointing into that arm: behind it the channel runs through the gap
+    // and on into the right arm.
+    wirefem::scene::CavityParameters c;
+    c.radius = 25;
+    c.shape = wirefem::scene::CavityShape::polygon;
+    c.vertices = {0, 0, 30, 0, 30, 30, 20, 30, 20, 10, 10, 10, 10, 30, 0, 30};
+    const auto wall = wirefem::scene::cavity_wall(c);
+    // The left arm's inner side is the edge x = 10, y in (10, 30) of the
+    // unscaled polygon: find its midpoint's place along the scaled wall.
+    // The unscaled polygon: area 700, centroid (15, 13.571); the arcs cut
+    // a little off, so the scale is about sqrt(pi 625 / 700).
+    const double scale = std::sqrt(M_PI * 625.0 / 700.0);
+    double best = 0.0, best_distance = 1e300;
+    for (int k = 0; k < 20000; ++k)
+      {
+        const double s = wall.perimeter() * k / 20000.0;
+        const auto q = wall.at(s).point;
+        const double d = std::hypot(q.x - (10 - 15) * scale, q.y - (20 - 13.571) * scale);
+        if (d < best_distance)
+          best = s, best_distance = d;
+      }
+    const double start = wirefem::scene::wall_start(wall);
+    const double fraction =
+        std::fmod(best - start + 2 * wall.perimeter(), wall.perimeter()) / wall.perimeter();
+    const auto msg =
+        error_of(f, {"Cavity/Radius=25", "Cavity/Shape=polygon",
+                     "Cavity/Vertices=0, 0, 30, 0, 30, 30, 20, 30, 20, 10, 10, 10, 10, 30, 0, 30",
+                     "Injection/Channel positions=" + std::to_string(fraction) + ", 0.02"});
+    EXPECT_NE(msg.find("Injection/Channel positions"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("runs back through the cavity"), std::string::npos) << msg;
   }
 
   TEST(Scene, FileErrorsCarryTheLineNumber)

@@ -56,12 +56,10 @@ namespace wirefem::fem
 
   namespace
   {
-    /// The wall's outward normal n at x and the overlap g, with their
-    /// derivatives with respect to x: the circle, or within an opening the
-    /// corner of the mouth. Returns false when x does not touch.
-    /// The same for any wall (ContactSettings::shaped), to first order
-    /// about x: the overlap grows along the outward normal n, which turns
-    /// along the wall's tangent t as d n / dx = spread t t^T.
+    /// The outward normal n and the overlap g at x for any wall
+    /// (ContactSettings::shaped), to first order about x: the overlap grows
+    /// along n, which turns along the wall's tangent t as
+    /// d n / dx = spread t t^T; at a mouth's corner, as wall_geometry's.
     bool shaped_wall_geometry(const injection::ChannelledWall &wall, const double diameter, const Vec2 &x,
                               Fad &nx, Fad &ny, Fad &g)
     {
@@ -87,6 +85,9 @@ namespace wirefem::fem
       return true;
     }
 
+    /// The wall's outward normal n at x and the overlap g, with their
+    /// derivatives with respect to x: the circle, or within an opening the
+    /// corner of the mouth. Returns false when x does not touch.
     bool wall_geometry(const double radius, const double diameter, const bool mouths, const Vec2 &x, Fad &nx,
                        Fad &ny, Fad &g)
     {

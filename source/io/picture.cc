@@ -245,7 +245,8 @@ namespace wirefem::io
           const core::Vec2 a = scene.wall[k], b = scene.wall[(k + 1) % n], m = 0.5 * (a + b);
           bool open = false;
           for (const auto &c : scene.channels)
-            open |= std::abs(across(c, m)) < 0.5 * d && core::norm(m - c.inlet) < 2.0 * d;
+            open |= std::abs(across(c, m)) < 0.5 * d &&
+                    std::abs(core::dot(c.axis, m - c.inlet)) < 0.25 * scene.extent;
           if (open)
             continue;
           cairo_move_to(cr, scene.px(a.x), scene.py(a.y));

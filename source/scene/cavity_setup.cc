@@ -50,7 +50,9 @@ namespace wirefem::scene
         w.push_back(s * p);
       return w;
     };
-    const double s0 = std::sqrt(target / polygon_area);
+    // (The first build is at twice the sharp scale, where a corner radius
+    // that fits the final polygon fits too.)
+    const double s0 = 2.0 * std::sqrt(target / polygon_area);
     const double cut = s0 * s0 * polygon_area - geometry::Cavity::polygon(scaled(s0), c.corner_radius).area();
     const double s = std::sqrt((target + cut) / polygon_area);
     auto w = scaled(s);

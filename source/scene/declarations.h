@@ -330,9 +330,9 @@ namespace wirefem::scene
   void declare_sections(Declarations &d, Scene &s);
 
   /// The injection set-up's cavity shape and channel placement
-  /// (section_checks.cc): a wall that cannot be built, channels off the wall
-  /// or overlapping, an initial wire that leaves the cavity, and what the
-  /// FEM does not run yet.
+  /// (section_checks.cc): a wall that cannot be built, channels off the wall,
+  /// overlapping or running back through the cavity, an initial wire that
+  /// overlaps the wall.
   void validate_wall(const Scene &s, const std::string &where);
 
   /// Throws InputError "where: key: why" unless ok.

@@ -3,10 +3,12 @@
 // than one key's range (`validate`).
 #include "declarations.h"
 
+#include <wirefem/injection/inlet.h>
 #include <wirefem/scene/cavity_setup.h>
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -17,6 +19,16 @@ namespace wirefem::scene
     check(radius > 1.0, w, "Cavity/Radius", "must be larger than 1 (the wire diameter)");
     check(shape != CavityShape::ellipse || aspect_ratio >= 1.0, w, "Cavity/Aspect ratio",
           "must be at least 1 (the long axis is along x)");
+    // The wall bends nowhere tighter than the wire's diameter, so a point
+    // in contact is never beyond its centre of curvature: at the ends of
+    // the long axis b^2/a = r q^(-3/2) >= d.
+    check(shape != CavityShape::ellipse || radius * std::pow(aspect_ratio, -1.5) >= 1.0, w,
+          "Cavity/Aspect ratio",
+          fmt::format("q = {:g} bends the wall tighter than d at the ends of the long axis (radius of "
+                      "curvature r q^(-3/2) = {:.3g}); at most r^(2/3) = {:.3g}",
+                      aspect_ratio, radius * std::pow(aspect_ratio, -1.5), std::pow(radius, 2.0 / 3.0)));
+    check(shape != CavityShape::polygon || corner_radius >= 1.0, w, "Cavity/Corner radius",
+          "must be at least 1 (the wire's diameter): the wall may bend no tighter than the wire");
   }
 
   namespace
@@ -36,6 +48,67 @@ namespace wirefem::scene
               (why.find("corner radius") != std::string::npos ? "Cavity/Corner radius" : "Cavity/Vertices") +
               ": " + why);
         }
+    }
+  } // namespace
+
+  namespace
+  {
+    /// The mouths apart, and each channel outside the cavity behind its
+    /// mouth (in a polygon that is not convex the line behind an inlet can
+    /// cross another arm of the cavity).
+    void check_mouths(const geometry::Cavity &wall, const std::array<injection::ChannelMouth, 2> &mouths,
+                      const std::string &w)
+    {
+      const double gap = core::norm(mouths[1].inlet - mouths[0].inlet);
+      double corners = gap;
+      for (const auto &a : mouths[0].corners)
+        for (const auto &b : mouths[1].corners)
+          corners = std::min(corners, core::norm(a - b));
+      check(gap >= 4.0 && corners >= 1.0, w, "Injection/Channel positions",
+            fmt::format("the channels overlap or nearly so: their inlets are {:.3g} d apart (at least 4 d "
+                        "needed), their mouths' corners {:.3g} d (at least 1 d)",
+                        gap, corners));
+      const double back = 2.0 * std::sqrt(wall.area() / M_PI);
+      for (const auto &m : mouths)
+        {
+          const double behind = std::min(m.corner_depth[0], m.corner_depth[1]) - 0.1;
+          for (int k = 0; k <= 400; ++k)
+            for (const double side : {-1.0, 0.0, 1.0})
+              {
+                const auto q = m.inlet + (behind - back * k / 400.0) * m.axis +
+                               (side * m.half_width) * core::perp(m.axis);
+                check(wall.nearest(q).depth < 0.0, w, "Injection/Channel positions",
+                      fmt::format("the channel at ({:.3g}, {:.3g}) runs back through the cavity near "
+                                  "({:.3g}, {:.3g})",
+                                  m.inlet.x, m.inlet.y, q.x, q.y));
+              }
+        }
+    }
+
+    /// The initial wire, with its seeded perturbation, clear of the wall
+    /// and of the mouths' corners, and its packing density below the
+    /// largest.
+    void check_initial_wire(const geometry::Cavity &wall,
+                            const std::array<injection::ChannelMouth, 2> &mouths,
+                            const InjectionParameters &in, const std::string &w)
+    {
+      const injection::InitialCurve curve(mouths[0], mouths[1]);
+      const injection::InitialShape shape(in.seed, in.perturbation, curve.length(), in.mirror_asymmetry);
+      const injection::ChannelledWall walled(wall, mouths, 1.0);
+      for (int k = 1; k < 400; ++k)
+        {
+          const double sk = curve.length() * k / 400.0;
+          const auto c = curve.at(sk);
+          const auto q = c.position + shape.offset(sk) * c.normal;
+          injection::WallTouch touch;
+          check(!walled.touch(q, 0.5, touch), w, "Injection/Channel positions",
+                fmt::format(
+                    "the initial wire between the channels would overlap the wall near ({:.3g}, {:.3g})", q.x,
+                    q.y));
+        }
+      const double phi0 = curve.length() / wall.area();
+      check(in.maximum_packing_density > phi0, w, "Injection/Maximum packing density",
+            fmt::format("must exceed the initial packing density {:.4g}", phi0));
     }
   } // namespace
 
@@ -65,29 +138,11 @@ namespace wirefem::scene
       }
     catch (const std::invalid_argument &e)
       {
-        throw InputError(w + ": Injection/Channel angle: " + e.what());
+        throw InputError(w + ": Injection/Channel angle: " + e.what() +
+                         " (the wall curves away from the channel there: a smaller angle, or a flatter place)");
       }
-    const double gap = core::norm(mouths[1].inlet - mouths[0].inlet);
-    check(
-        gap >= 4.0, w, "Injection/Channel positions",
-        fmt::format("the channels overlap or nearly so: their inlets are {:.3g} d apart, at least 4 d needed",
-                    gap));
-    // The initial wire's centreline stays at least d/2 from the wall once
-    // it is d from either inlet.
-    const injection::InitialCurve curve(mouths[0], mouths[1]);
-    for (int k = 0; k <= 400; ++k)
-      {
-        const double sk = curve.length() * k / 400.0;
-        if (sk < 1.0 || sk > curve.length() - 1.0)
-          continue;
-        const auto q = curve.at(sk).position;
-        check(wall.nearest(q).depth >= 0.5, w, "Injection/Channel positions",
-              fmt::format("the initial wire between the channels leaves the cavity near ({:.3g}, {:.3g})",
-                          q.x, q.y));
-      }
-    const double phi0 = curve.length() / wall.area();
-    check(in.maximum_packing_density > phi0, w, "Injection/Maximum packing density",
-          fmt::format("must exceed the initial packing density {:.4g}", phi0));
+    check_mouths(wall, mouths, w);
+    check_initial_wire(wall, mouths, in, w);
   }
 
   void ContactParameters::resolve()
