@@ -79,6 +79,12 @@ foreach(model discrete fem)
     set_tests_properties(scene.${shape}_oblique_channels_jam_${model} PROPERTIES LABELS regression)
   endforeach()
 endforeach()
+# `wirefem analyze` classifies such a run by its own cavity (summary.json).
+add_test(NAME analyze.shaped_run_directory
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DOUT=${SCENE_OUT}/ellipse_oblique_discrete
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_analyze_matches.cmake)
+set_tests_properties(analyze.shaped_run_directory PROPERTIES LABELS regression
+                     DEPENDS scene.ellipse_oblique_channels_jam_discrete)
 # Tangential runs through the executable, both models, to their ends
 # without a numerical stop.
 file(READ ${CMAKE_SOURCE_DIR}/prm/quick.prm quick_prm)

@@ -207,6 +207,15 @@ namespace wirefem::analysis
             const auto j = nlohmann::json::parse(read_file(summary_file));
             if (j.contains("cavity_radius"))
               radius = j["cavity_radius"].get<double>();
+            // Any cavity but the circle: its wall and channels.
+            if (j.contains("cavity"))
+              {
+                for (const auto &p : j["cavity"].at("wall"))
+                  w.wall.push_back({p.at(0).get<double>(), p.at(1).get<double>()});
+                for (const auto &c : j["cavity"].at("channels"))
+                  w.channels.push_back({{c.at(0).get<double>(), c.at(1).get<double>()},
+                                        {c.at(2).get<double>(), c.at(3).get<double>()}});
+              }
             // The run's own L (the wire that passed the inlets), not the
             // polyline between the inlet nodes.
             if (j.contains("injected_length"))

@@ -378,6 +378,22 @@ namespace wirefem::simulation
       std::signal(SIGTERM, old_term);
     }
 
+    /// Any cavity but the paper's circle with its channels: the wall and
+    /// the channels (WireState::wall, channels), so that `wirefem analyze`
+    /// classifies a run directory by its own cavity.
+    void describe_cavity(nlohmann::json &j, const core::WireState &w)
+    {
+      if (w.wall.empty())
+        return;
+      auto &c = j["cavity"];
+      c["wall"] = nlohmann::json::array();
+      for (const auto &p : w.wall)
+        c["wall"].push_back({p.x, p.y});
+      c["channels"] = nlohmann::json::array();
+      for (const auto &ch : w.channels)
+        c["channels"].push_back({ch.inlet.x, ch.inlet.y, ch.axis.x, ch.axis.y});
+    }
+
     nlohmann::json summary(const Run &run)
     {
       const auto &model = run.model;
@@ -387,6 +403,7 @@ namespace wirefem::simulation
       describe_run(j, model, "injection");
       j["scene"] = run.scene.name;
       j["cavity_radius"] = run.radius();
+      describe_cavity(j, model.wire_state());
       j["phi_final"] = result.phi_final;
       j["injected_length"] = model.injected_length();
       j["jammed"] = result.jammed;
