@@ -170,6 +170,37 @@ namespace
         }
   }
 
+  TEST(Cavity, SurelyDeeperPointsAreDeeper)
+  {
+    // Never a false yes; and most points well inside are recognised
+    // without nearest() (the test's purpose: the wall term skips them).
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> x(-20.0, 20.0);
+    for (const auto &[name, c] : shapes())
+      for (const double delta : {0.5, 2.0})
+        {
+          int deep = 0, recognised = 0;
+          for (int k = 0; k < 20000; ++k)
+            {
+              const Vec2 p{x(rng), x(rng)};
+              const double depth = c.nearest(p).depth;
+              const bool sure = c.surely_deeper(p, delta);
+              if (sure)
+                {
+                  EXPECT_GT(depth, delta) << name << " at " << p.x << ", " << p.y;
+                }
+              if (depth > delta + 3.0)
+                ++deep, recognised += sure;
+            }
+          if (name.rfind("ellipse", 0) == 0)
+            {
+              EXPECT_GT(recognised, 0.8 * deep) << name;
+            }
+        }
+    EXPECT_TRUE(Cavity::circle(10.0).surely_deeper({0.0, 9.4}, 0.5));
+    EXPECT_FALSE(Cavity::circle(10.0).surely_deeper({0.0, 9.6}, 0.5));
+  }
+
   TEST(Cavity, EllipsePointsBesideItsAxesAreAsOnThem)
   {
     // A point a rounding error off an axis (the initial wire of a run lies

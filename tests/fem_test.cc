@@ -451,7 +451,7 @@ namespace
     const auto place = [](const geometry::Cavity &wall, const double angle) {
       scene::InjectionParameters in;
       in.channel_angle = angle;
-      return std::make_shared<const injection::ChannelledWall>(wall, scene::channel_mouths(wall, in), 1.0);
+      return std::make_shared<const injection::ChannelledWall>(wall, scene::channel_mouths(wall, in));
     };
     for (const bool friction : {false, true})
       {

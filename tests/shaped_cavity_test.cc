@@ -118,7 +118,7 @@ namespace
     discrete::WallContactTerm circle(r, law);
     discrete::WallContactTerm shaped(r, law);
     const auto wall = geometry::Cavity::circle(r);
-    shaped.use_shaped_wall(std::make_unique<discrete::ShapedWall>(wall, mouths_on(wall, 0.5, 0.0, 0.0), 1.0));
+    shaped.use_shaped_wall(std::make_unique<discrete::ShapedWall>(wall, mouths_on(wall, 0.5, 0.0, 0.0)));
     std::mt19937 gen(3);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     Chain c(400);
@@ -148,7 +148,7 @@ namespace
     const auto wall = geometry::Cavity::ellipse(r * q, r / q);
     const auto m = mouths_on(wall, 0.5, 0.0, 30.0);
     discrete::WallContactTerm term(r, stiff_law());
-    term.use_shaped_wall(std::make_unique<discrete::ShapedWall>(wall, m, 1.0));
+    term.use_shaped_wall(std::make_unique<discrete::ShapedWall>(wall, m));
     Chain c(10);
     c.first = 0;
     c.last = 8;

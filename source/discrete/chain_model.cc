@@ -90,7 +90,7 @@ namespace wirefem::discrete
         // Facing channels (the default) turn the wire by 0.
         channels.place(mouths[0], mouths[1], std::lround(initial_curve->length() / lambda0) * lambda0,
                        initial_curve->turning());
-        shaped_wall = std::make_unique<ShapedWall>(std::move(cavity), mouths, diameter);
+        shaped_wall = std::make_unique<ShapedWall>(std::move(cavity), mouths);
       }
     const int n0 = static_cast<int>(std::lround(channels.initial_length() / lambda0));
     const double max_length = scene.injection.maximum_packing_density * M_PI * radius * radius / diameter;

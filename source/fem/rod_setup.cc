@@ -130,8 +130,7 @@ namespace wirefem::fem
         const injection::InitialCurve curve(mouths[0], mouths[1]);
         channels.place(mouths[0], mouths[1], curve.length(), curve.turning());
         hold += diameter * std::tan(s.injection.channel_angle * M_PI / 180.0);
-        wall_settings.shaped =
-            std::make_shared<const injection::ChannelledWall>(std::move(wall), mouths, diameter);
+        wall_settings.shaped = std::make_shared<const injection::ChannelledWall>(std::move(wall), mouths);
       }
     const double L0 = channels.initial_length();
     k_channel = s.contact.normal_stiffness / diameter;

@@ -229,6 +229,7 @@ namespace wirefem::geometry
       }
     area_ = s[0];
     centroid_ = {s[1] / s[0], s[2] / s[0]};
+    inradius_ = std::max(0.0, nearest_on_polygon(centroid_).depth);
   }
 
   void Cavity::build_ellipse()
@@ -268,6 +269,24 @@ namespace wirefem::geometry
         return nearest_on_polygon(p);
       }
     return {};
+  }
+
+  bool Cavity::surely_deeper(const Vec2 &p, const double delta) const
+  {
+    switch (kind)
+      {
+      case Shape::circle:
+        return a > delta && core::norm_square(p) < (a - delta) * (a - delta);
+      case Shape::ellipse:
+        {
+          const double s = 1.0 - delta / std::min(a, b);
+          return s > 0.0 && (p.x / a) * (p.x / a) + (p.y / b) * (p.y / b) < s * s;
+        }
+      case Shape::polygon:
+        break;
+      }
+    const double r = inradius_ - delta;
+    return r > 0.0 && core::norm_square(p - centroid_) < r * r;
   }
 
   WallPoint Cavity::nearest_on_polygon(const Vec2 &p) const

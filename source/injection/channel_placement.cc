@@ -146,18 +146,10 @@ namespace wirefem::injection
     return sum;
   }
 
-  ChannelledWall::ChannelledWall(geometry::Cavity cavity_in, const std::array<ChannelMouth, 2> &mouths_in,
-                                 const double diameter)
+  ChannelledWall::ChannelledWall(geometry::Cavity cavity_in, const std::array<ChannelMouth, 2> &mouths_in)
     : cavity(std::move(cavity_in))
     , mouths(mouths_in)
   {
-    // The largest disc about the centroid inside the wall, less a diameter
-    // and the mouths' reach.
-    double r = cavity.nearest(cavity.centroid()).depth - diameter;
-    for (const auto &m : mouths)
-      for (const auto &q : m.corners)
-        r = std::min(r, core::norm(q - cavity.centroid()) - diameter);
-    clear_radius = std::max(0.0, r);
   }
 
   void ChannelledWall::describe(core::WireState &w) const
@@ -170,8 +162,9 @@ namespace wirefem::injection
 
   bool ChannelledWall::touch(const Vec2 &p, const double half_d, WallTouch &out) const
   {
-    const Vec2 q = p - cavity.centroid();
-    if (core::dot(q, q) < clear_radius * clear_radius)
+    // Deeper than d/2, the point touches neither the wall nor a corner of a
+    // mouth (the corners lie on the wall).
+    if (cavity.surely_deeper(p, half_d))
       return false;
     const auto w = cavity.nearest(p);
     for (const auto &m : mouths)

@@ -94,7 +94,7 @@ namespace wirefem::scene
     {
       const injection::InitialCurve curve(mouths[0], mouths[1]);
       const injection::InitialShape shape(in.seed, in.perturbation, curve.length(), in.mirror_asymmetry);
-      const injection::ChannelledWall walled(wall, mouths, 1.0);
+      const injection::ChannelledWall walled(wall, mouths);
       for (int k = 1; k < 400; ++k)
         {
           const double sk = curve.length() * k / 400.0;
@@ -138,8 +138,9 @@ namespace wirefem::scene
       }
     catch (const std::invalid_argument &e)
       {
-        throw InputError(w + ": Injection/Channel angle: " + e.what() +
-                         " (the wall curves away from the channel there: a smaller angle, or a flatter place)");
+        throw InputError(
+            w + ": Injection/Channel angle: " + e.what() +
+            " (the wall curves away from the channel there: a smaller angle, or a flatter place)");
       }
     check_mouths(wall, mouths, w);
     check_initial_wire(wall, mouths, in, w);

@@ -54,6 +54,12 @@ namespace wirefem::geometry
     Shape shape() const { return kind; }
     WallPoint nearest(const Vec2 &p) const;
     bool contains(const Vec2 &p) const { return nearest(p).depth > 0.0; }
+    /// A cheap test, without nearest(): true only if p is deeper in the
+    /// cavity than delta (inside the circle of radius r - delta; the
+    /// ellipse scaled by 1 - delta / b, whose gap to the wall is at least
+    /// delta as the wall's support function is at least b; the disc about
+    /// the polygon's centroid inside its wall, less delta).
+    bool surely_deeper(const Vec2 &p, double delta) const;
     double area() const { return area_; }
     Vec2 centroid() const { return centroid_; }
     double perimeter() const { return perimeter_; }
@@ -86,6 +92,7 @@ namespace wirefem::geometry
     /// ellipse: arc length at parameter angle k * 2 pi / n, k = 0..n
     std::vector<double> arc_table;
     double area_ = 0.0, perimeter_ = 0.0;
+    double inradius_ = 0.0; ///< polygon: the depth of its centroid
     Vec2 centroid_{};
 
     void build_polygon();

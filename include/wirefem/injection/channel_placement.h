@@ -66,10 +66,8 @@ namespace wirefem::injection
   {
     geometry::Cavity cavity;
     std::array<ChannelMouth, 2> mouths;
-    /// No point nearer the centroid than this can touch the wall or a mouth.
-    double clear_radius = 0.0;
 
-    ChannelledWall(geometry::Cavity cavity, const std::array<ChannelMouth, 2> &mouths, double diameter);
+    ChannelledWall(geometry::Cavity cavity, const std::array<ChannelMouth, 2> &mouths);
     /// Whether a point of the wire's centreline at p, the surface half_d
     /// away, overlaps the wall.
     bool touch(const core::Vec2 &p, double half_d, WallTouch &out) const;
