@@ -86,11 +86,10 @@ namespace wirefem::discrete
         // between the inlets, n0 whole segments long.
         auto cavity = scene::cavity_wall(scene.cavity);
         const auto mouths = scene::channel_mouths(cavity, scene.injection);
-        initial_curve = std::make_unique<injection::InitialCurve>(mouths[0], mouths[1]);
-        // Facing channels (the default) turn the wire by 0.
-        channels.place(mouths[0], mouths[1], std::lround(initial_curve->length() / lambda0) * lambda0,
-                       initial_curve->turning());
-        shaped_wall = std::make_unique<ShapedWall>(std::move(cavity), mouths);
+        const injection::InitialCurve curve(mouths[0], mouths[1]);
+        channels.place(mouths[0], mouths[1], std::lround(curve.length() / lambda0) * lambda0,
+                       curve.turning());
+        shaped_wall = std::make_shared<const ShapedWall>(std::move(cavity), mouths);
       }
     const int n0 = static_cast<int>(std::lround(channels.initial_length() / lambda0));
     const double max_length = scene.injection.maximum_packing_density * M_PI * radius * radius / diameter;
@@ -168,7 +167,7 @@ namespace wirefem::discrete
         if (channels.is_tangential())
           w->make_channels_tangential();
         if (shaped_wall)
-          w->use_shaped_wall(std::make_unique<ShapedWall>(*shaped_wall));
+          w->use_shaped_wall(shaped_wall);
         terms.push_back(std::move(w));
         effects.push_back("wall contact");
       }
@@ -233,19 +232,16 @@ namespace wirefem::discrete
         for (int k = left_origin + 1; k < right_origin; ++k)
           nodes.x[k] = channels.initial_s((k - left_origin) * ds).position;
       }
-    else if (initial_curve)
+    else if (shaped_wall)
       {
         // The curve between the inlets with the seeded perturbation across
         // it, its nodes equally spaced along the curve.
-        const double span = initial_curve->length(), ds = span / n0;
+        const injection::InitialCurve curve(shaped_wall->mouths[0], shaped_wall->mouths[1]);
+        const double span = curve.length(), ds = span / n0;
         const injection::InitialShape shape(scene.injection.seed, scene.injection.perturbation, span,
                                             scene.injection.mirror_asymmetry);
         for (int k = left_origin + 1; k < right_origin; ++k)
-          {
-            const double xi = (k - left_origin) * ds;
-            const auto q = initial_curve->at(xi);
-            nodes.x[k] = q.position + shape.offset(xi) * q.normal;
-          }
+          nodes.x[k] = curve.perturbed((k - left_origin) * ds, shape);
       }
     else
       {

@@ -117,19 +117,6 @@ namespace wirefem::discrete
         }
       return b;
     }
-
-    /// A node at p against a corner of a mouth: whether its surface
-    /// overlaps the corner, by how much, and the unit vector towards it.
-    bool touch_corner(const Vec2 &corner, const Vec2 &p, const double half_d, double &overlap, Vec2 &n)
-    {
-      const Vec2 to_corner = corner - p;
-      const double dc = norm(to_corner);
-      overlap = half_d - dc;
-      if (overlap <= 0.0)
-        return false;
-      n = (1.0 / dc) * to_corner;
-      return true;
-    }
   } // namespace
 
   StabilityBound WallContactTerm::stability_bound(const double mass, const double lambda0) const
@@ -163,8 +150,8 @@ namespace wirefem::discrete
     if (!tangential && std::abs(p.y) * radius < half_d * dist)
       {
         // Within an opening: the nearest wall is a corner of the mouth.
-        return touch_corner({p.x > 0.0 ? corner_x : -corner_x, p.y > 0.0 ? half_d : -half_d}, p, half_d,
-                            overlap, n);
+        return injection::touch_corner({p.x > 0.0 ? corner_x : -corner_x, p.y > 0.0 ? half_d : -half_d}, p,
+                                       half_d, overlap, n);
       }
     overlap = dist + half_d - radius;
     if (overlap <= 0.0)

@@ -56,6 +56,18 @@ namespace wirefem::fem
 
   namespace
   {
+    /// A point (px, py) against a mouth's corner: n from the point towards
+    /// the corner (the corner pushes along -n) and the overlap g.
+    void corner_geometry(const Vec2 &corner, const Fad &px, const Fad &py, const double half_d, Fad &nx,
+                         Fad &ny, Fad &g)
+    {
+      const Fad dx = corner.x - px, dy = corner.y - py;
+      const Fad dc = sqrt(dx * dx + dy * dy);
+      nx = dx / dc;
+      ny = dy / dc;
+      g = half_d - dc;
+    }
+
     /// The outward normal n and the overlap g at x for any wall
     /// (ContactSettings::shaped), to first order about x: the overlap grows
     /// along n, which turns along the wall's tangent t as
@@ -69,11 +81,7 @@ namespace wirefem::fem
       const Fad px(2, 0, x.x), py(2, 1, x.y);
       if (touch.at_corner)
         {
-          const Fad dx = touch.corner.x - px, dy = touch.corner.y - py;
-          const Fad dc = sqrt(dx * dx + dy * dy);
-          nx = dx / dc;
-          ny = dy / dc;
-          g = 0.5 * diameter - dc;
+          corner_geometry(touch.corner, px, py, 0.5 * diameter, nx, ny, g);
           return true;
         }
       const Vec2 n = touch.towards, t = core::perp(n);
@@ -102,14 +110,7 @@ namespace wirefem::fem
         return false;
       const Fad px(2, 0, x.x), py(2, 1, x.y);
       if (in_opening)
-        {
-          // n from the point towards the corner: the corner pushes along -n.
-          const Fad dx = corner.x - px, dy = corner.y - py;
-          const Fad dc = sqrt(dx * dx + dy * dy);
-          nx = dx / dc;
-          ny = dy / dc;
-          g = half_d - dc;
-        }
+        corner_geometry(corner, px, py, half_d, nx, ny, g);
       else
         {
           const Fad r = sqrt(px * px + py * py);

@@ -58,10 +58,7 @@ namespace wirefem::fem
     const double L0 = channels.initial_length();
     const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, L0,
                                         s.injection.mirror_asymmetry);
-    const auto at = [&](const double xi) {
-      const auto q = curve.at(xi);
-      return q.position + shape.offset(xi) * q.normal;
-    };
+    const auto at = [&](const double xi) { return curve.perturbed(xi, shape); };
     double angle = channels.wire_angle(Side::left);
     for (int k = first_free; k < last_free; ++k)
       {

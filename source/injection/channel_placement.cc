@@ -152,6 +152,17 @@ namespace wirefem::injection
   {
   }
 
+  bool touch_corner(const Vec2 &corner, const Vec2 &p, const double half_d, double &overlap, Vec2 &towards)
+  {
+    const Vec2 to_corner = corner - p;
+    const double dc = core::norm(to_corner);
+    overlap = half_d - dc;
+    if (overlap <= 0.0)
+      return false;
+    towards = (1.0 / dc) * to_corner;
+    return true;
+  }
+
   void ChannelledWall::describe(core::WireState &w) const
   {
     w.wall = cavity.outline(static_cast<int>(std::ceil(1.3 * cavity.perimeter())) + 64);
@@ -182,13 +193,7 @@ namespace wirefem::injection
         const Vec2 to0 = m.corners[0] - p, to1 = m.corners[1] - p;
         out.at_corner = true;
         out.corner = core::dot(to0, to0) < core::dot(to1, to1) ? m.corners[0] : m.corners[1];
-        const Vec2 to_corner = out.corner - p;
-        const double dc = core::norm(to_corner);
-        out.overlap = half_d - dc;
-        if (out.overlap <= 0.0)
-          return false;
-        out.towards = (1.0 / dc) * to_corner;
-        return true;
+        return touch_corner(out.corner, p, half_d, out.overlap, out.towards);
       }
     out.overlap = half_d - w.depth;
     if (out.overlap <= 0.0)

@@ -97,9 +97,7 @@ namespace wirefem::scene
       const injection::ChannelledWall walled(wall, mouths);
       for (int k = 1; k < 400; ++k)
         {
-          const double sk = curve.length() * k / 400.0;
-          const auto c = curve.at(sk);
-          const auto q = c.position + shape.offset(sk) * c.normal;
+          const auto q = curve.perturbed(curve.length() * k / 400.0, shape);
           injection::WallTouch touch;
           check(!walled.touch(q, 0.5, touch), w, "Injection/Channel positions",
                 fmt::format(

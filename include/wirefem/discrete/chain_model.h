@@ -118,9 +118,8 @@ namespace wirefem::discrete
     double hold = 0.0; ///< depth in the channels beyond which the wire is pushed
     injection::Channels channels;
     /// A cavity other than the paper's circle, or channels off its x axis
-    /// (scene::general_wall): its wall and the initial wire's curve.
-    std::unique_ptr<injection::ChannelledWall> shaped_wall;
-    std::unique_ptr<injection::InitialCurve> initial_curve;
+    /// (scene::general_wall): its wall, shared with the wall contact term.
+    std::shared_ptr<const injection::ChannelledWall> shaped_wall;
     Chain nodes;
     std::vector<std::unique_ptr<Term>> terms;
     BendingTerm *bending = nullptr;

@@ -306,7 +306,7 @@ namespace wirefem::discrete
     /// capacity: number of nodes of the chain (needed with friction).
     WallContactTerm(double radius, const ContactLaw &law, int capacity = 0);
     /// The wall of any cavity instead of the circle of radius r.
-    void use_shaped_wall(std::unique_ptr<const ShapedWall> wall) { shaped = std::move(wall); }
+    void use_shaped_wall(std::shared_ptr<const ShapedWall> wall) { shaped = std::move(wall); }
     /// The channels are tangential (injection/channels.h): the wall is a
     /// whole circle, without the radial mouths, and the wire still in a
     /// channel (the end nodes behind its inlet) is left to the channel walls.
@@ -322,7 +322,7 @@ namespace wirefem::discrete
     double radius;
     ContactLaw law;
     bool tangential = false;
-    std::unique_ptr<const ShapedWall> shaped;
+    std::shared_ptr<const ShapedWall> shaped;
     /// The circle's rule (above): whether the node at p overlaps the wall,
     /// by how much, and the unit vector towards it.
     bool touch_circle(const core::Vec2 &p, double half_d, double corner_x, double &overlap,

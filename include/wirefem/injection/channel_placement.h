@@ -9,6 +9,7 @@
 #include <wirefem/core/vec2.h>
 #include <wirefem/core/wire_state.h>
 #include <wirefem/geometry/cavity.h>
+#include <wirefem/injection/inlet.h>
 
 #include <array>
 #include <vector>
@@ -57,6 +58,12 @@ namespace wirefem::injection
     double spread = 0.0;
   };
 
+  /// A point p of the wire's centreline (surface half_d away) against a
+  /// mouth's corner: whether it overlaps it, by how much, and the unit
+  /// vector from p towards the corner.
+  bool touch_corner(const core::Vec2 &corner, const core::Vec2 &p, double half_d, double &overlap,
+                    core::Vec2 &towards);
+
   /// Any cavity's wall with the two channels' mouths cut in it: a point
   /// whose nearest wall point lies in a mouth, or that is in a channel
   /// behind its mouth, meets the mouth's nearer corner; any other point
@@ -96,6 +103,13 @@ namespace wirefem::injection
     /// The angle the tangent turns through from the left inlet to the right
     /// one (counter-clockwise positive; 0 for facing channels).
     double turning() const;
+    /// The initial wire at arc length s: the curve's point moved across it
+    /// by the seeded perturbation (injection/inlet.h, span length()).
+    core::Vec2 perturbed(double s, const InitialShape &shape) const
+    {
+      const auto q = at(s);
+      return q.position + shape.offset(s) * q.normal;
+    }
 
   private:
     std::array<core::Vec2, 4> control;
