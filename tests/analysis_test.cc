@@ -426,6 +426,36 @@ namespace
     EXPECT_EQ(analysis::classify(shape(far, none, r)).symmetry, 0.0);
   }
 
+  TEST(Morphology, OneChannelMirrorSymmetryIsTheShareOfTheWireItsImageCovers)
+  {
+    // One channel at (-r, 0) pointing +x in the circle: the mirror line is
+    // the x axis. A wire along it is its own image (1). Half along it and
+    // half straight up from (-5, 0): the upper half's image lies 1 d or
+    // more below the wire, so half the points are covered (6 of 12).
+    const double r = 10.0;
+    core::WireState w;
+    w.cavity_radius = r;
+    for (int k = 0; k < 64; ++k)
+      w.wall.push_back({r * std::cos(2.0 * M_PI * k / 64), r * std::sin(2.0 * M_PI * k / 64)});
+    w.channels = {{{-r, 0.0}, {1.0, 0.0}}};
+    for (int k = 0; k <= 10; ++k)
+      w.points.push_back({k - r, 0.0});
+    w.curvature.assign(w.points.size(), 0.0);
+    EXPECT_DOUBLE_EQ(analysis::classify(w).symmetry, 1.0);
+    w.points.clear();
+    for (int k = 0; k < 6; ++k)
+      w.points.push_back({k - r, 0.0});
+    for (int k = 1; k <= 6; ++k)
+      w.points.push_back({-5.0, double(k)});
+    w.curvature.assign(w.points.size(), 0.0);
+    EXPECT_DOUBLE_EQ(analysis::classify(w).symmetry, 0.5);
+    // Shifted 0.3 d across the line, the straight wire's image misses it
+    // by 0.6 d: nothing covered.
+    for (auto &p : w.points)
+      p = {p.x, 0.3};
+    EXPECT_DOUBLE_EQ(analysis::classify(w).symmetry, 0.0);
+  }
+
   TEST(Morphology, SpiralWhenBothHalvesWindTheSameWay)
   {
     // Each half winds 1.5 turns clockwise inwards from its inlet, and the

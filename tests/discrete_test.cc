@@ -962,6 +962,28 @@ namespace
                 1e-12 * straight.energies().friction);
   }
 
+  TEST(ChainModel, OneChannelLeavesTheWiresEndFreeAndResumesBitForBit)
+  {
+    // One channel at (-r, 0): the wire state runs from the inlet to the
+    // free end, which lies in the cavity, and the wire's length is L0 + u.
+    const auto s = small_scene({"Injection/Channel positions=0.5", "Contact/Friction/Static coefficient=2"});
+    discrete::ChainModel straight(s), first(s), resumed(s);
+    checks::run_straight_and_resumed(straight, first, resumed, 20.0, 30.0);
+    EXPECT_EQ(straight.n_steps(), resumed.n_steps());
+    EXPECT_EQ(state_hash(straight), state_hash(resumed));
+    // (The chain's wire state starts at its innermost pushed node, on the
+    // channel's axis behind the inlet.)
+    const auto w = straight.wire_state();
+    const double behind = -6.0 - w.points.front().x;
+    EXPECT_NEAR(w.points.front().y, 0.0, 1e-12);
+    EXPECT_GE(behind, 0.0);
+    EXPECT_LT(core::norm(w.points.back()), 6.0 - 0.45);
+    EXPECT_NEAR(w.arc_length.back() - behind, straight.injected_length(), 1e-9);
+    EXPECT_EQ(straight.force_right(), 0.0);
+    EXPECT_GT(straight.force_left(), 0.0);
+    ASSERT_EQ(w.channels.size(), 1u);
+  }
+
   TEST(ChainModel, LoadRejectsACheckpointOfAnotherScene)
   {
     const auto a = small_scene();

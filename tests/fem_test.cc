@@ -1457,6 +1457,23 @@ namespace
     EXPECT_EQ(largest_distance(straight, resumed), 0.0);
   }
 
+  TEST(RodModel, OneChannelLeavesTheWiresEndFreeAndResumesBitForBit)
+  {
+    // The mesh ends at the free end: the wire state's last point is the
+    // last node, in the cavity, at arc length L = L0 + u.
+    const auto s = contact_scene("Injection/Channel positions=0.5");
+    fem::RodModel straight(s), first(s), resumed(s);
+    checks::run_straight_and_resumed(straight, first, resumed, 20.0, 30.0);
+    EXPECT_EQ(straight.n_steps(), resumed.n_steps());
+    EXPECT_EQ(largest_distance(straight, resumed), 0.0);
+    const auto w = straight.wire_state();
+    EXPECT_NEAR(core::norm(w.points.front() - core::Vec2{-6.0, 0.0}), 0.0, 1e-12);
+    EXPECT_LT(core::norm(w.points.back()), 6.0 - 0.45);
+    EXPECT_NEAR(w.arc_length.back(), straight.injected_length(), 1e-9);
+    EXPECT_EQ(straight.force_right(), 0.0);
+    EXPECT_GT(straight.force_left(), 0.0);
+  }
+
   TEST(RodModel, ModifiedNewtonSavesAndLoadsBitForBit)
   {
     // Every step starts from a tangent at its predictor, so no factors

@@ -131,6 +131,7 @@ namespace
              {{"Cavity/Shape=ellipse", "Cavity/Aspect ratio=0.5"}, "Cavity/Aspect ratio", "at least 1"},
              {{"Injection/Channel positions=0.5, 1.2"}, "Injection/Channel positions", "off the wall"},
              {{"Injection/Channel positions=0.5, 0.51"}, "Injection/Channel positions", "overlap"},
+             {{"Injection/Channel positions=0.1, 0.4, 0.7"}, "Injection/Channel positions", "one or two"},
              {{"Injection/Channel angle=85"}, "Injection/Channel angle", "below 80"},
              {{"Cavity/Shape=polygon", "Cavity/Corner radius=0.5"}, "Cavity/Corner radius", "at least 1"},
              {{"Cavity/Shape=ellipse", "Cavity/Aspect ratio=20"}, "Cavity/Aspect ratio", "tighter than d"},

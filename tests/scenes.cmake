@@ -79,6 +79,21 @@ foreach(model discrete fem)
     set_tests_properties(scene.${shape}_oblique_channels_jam_${model} PROPERTIES LABELS regression)
   endforeach()
 endforeach()
+# One channel: the wire's other end is free. The circle's radial channel,
+# and an oblique one at the top of an ellipse.
+set(one_channel_circle "Injection/Channel positions=0.5|Cavity/Radius=10")
+set(one_channel_ellipse_oblique
+    "Injection/Channel positions=0.25|Cavity/Radius=10|Cavity/Shape=ellipse|Injection/Channel angle=30")
+foreach(model discrete fem)
+  foreach(case one_channel_circle one_channel_ellipse_oblique)
+    add_test(NAME scene.${case}_jam_${model}
+             COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
+                     -DSETTING=Model=${model} "-DEXTRA=${${case}}|Injection/Maximum packing density=0.8"
+                     -DJAMMED=ON -DMAX_OVERLAP=0.1 -DOUT=${SCENE_OUT}/${case}_${model}
+                     -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+    set_tests_properties(scene.${case}_jam_${model} PROPERTIES LABELS regression)
+  endforeach()
+endforeach()
 # `wirefem analyze` classifies such a run by its own cavity (summary.json).
 add_test(NAME analyze.shaped_run_directory
          COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DOUT=${SCENE_OUT}/ellipse_oblique_discrete

@@ -5,6 +5,7 @@
 // the discrete model to jamming.
 #include <wirefem/discrete/terms.h>
 #include <wirefem/injection/channel_placement.h>
+#include <wirefem/injection/channels.h>
 #include <wirefem/scene/cavity_setup.h>
 #include <wirefem/scene/scene_reader.h>
 #include <wirefem/simulation/simulation.h>
@@ -24,8 +25,8 @@ namespace
   using discrete::StepEnergy;
   using injection::ChannelMouth;
 
-  std::array<ChannelMouth, 2> mouths_on(const geometry::Cavity &wall, const double left, const double right,
-                                        const double angle_degrees)
+  std::vector<ChannelMouth> mouths_on(const geometry::Cavity &wall, const double left, const double right,
+                                      const double angle_degrees)
   {
     scene::InjectionParameters in;
     in.channel_positions = {left, right};
@@ -102,6 +103,52 @@ namespace
     // Facing channels: the straight line between the inlets.
     const auto f = mouths_on(geometry::Cavity::circle(10.0), 0.5, 0.0, 0.0);
     EXPECT_NEAR(injection::InitialCurve(f[0], f[1]).length(), 20.0, 1e-9);
+  }
+
+  TEST(ChannelPlacement, OneChannelStartsAStubToTheMiddleOfItsChord)
+  {
+    // The circle's radial channel: the chord is the diameter, the stub r.
+    const double r = 10.0;
+    scene::CavityParameters cavity;
+    cavity.radius = r;
+    scene::InjectionParameters in;
+    in.channel_positions = {0.5};
+    const auto wall = scene::channelled_wall(cavity, in);
+    ASSERT_EQ(wall->mouths.size(), 1u);
+    const auto &m = wall->mouths[0];
+    EXPECT_NEAR(injection::free_end_length(wall->cavity, m), r, 1e-9);
+    // Rounded to whole units: 10 / 3 rounds to 3 units of 3.
+    EXPECT_NEAR(injection::initial_curve(*wall, 1.0).length(), 10.0, 1e-9);
+    const auto stub = injection::initial_curve(*wall, 3.0);
+    EXPECT_NEAR(stub.length(), 9.0, 1e-9);
+    EXPECT_NEAR(core::norm(stub.at(9.0).position - (m.inlet + 9.0 * m.axis)), 0.0, 1e-9);
+    EXPECT_NEAR(core::norm(stub.at(4.5).normal - core::perp(m.axis)), 0.0, 1e-12);
+    EXPECT_NEAR(stub.turning(), 0.0, 1e-12);
+    // The perturbation spans twice the stub, so the first mode peaks at its end.
+    const auto shape = injection::initial_shape(3, 0.5, 1.0, stub, 1);
+    const injection::InitialShape twice(3, 0.5, 18.0, 1.0);
+    for (const double s : {1.0, 4.5, 9.0})
+      EXPECT_EQ(shape.offset(s), twice.offset(s));
+    // An ellipse of aspect 2 with the channel at its top, pointing down the
+    // short axis: the stub is the half axis b = r / sqrt(2).
+    cavity.shape = scene::CavityShape::ellipse;
+    cavity.aspect_ratio = 2.0;
+    in.channel_positions = {0.25};
+    const auto ellipse = scene::channelled_wall(cavity, in);
+    EXPECT_NEAR(ellipse->mouths[0].axis.y, -1.0, 1e-12);
+    EXPECT_NEAR(injection::free_end_length(ellipse->cavity, ellipse->mouths[0]), r / std::sqrt(2.0), 1e-9);
+    // One channel pushes: the wire inside grows by u(t), not 2 u(t).
+    injection::Channels one(r, 0.1, 10.0), two(r, 0.1, 10.0);
+    one.place(wall->mouths, 10.0, 0.0);
+    two.place(scene::channel_mouths(wall->cavity, scene::InjectionParameters{}), 20.0, 0.0);
+    EXPECT_EQ(one.count(), 1);
+    EXPECT_FALSE(one.pushes(injection::Side::right));
+    EXPECT_EQ(two.count(), 2);
+    for (const double t : {3.0, 50.0})
+      {
+        EXPECT_DOUBLE_EQ(one.injected_length(t), 10.0 + one.injected_per_channel(t));
+        EXPECT_DOUBLE_EQ(two.injected_length(t), 20.0 + 2.0 * two.injected_per_channel(t));
+      }
   }
 
   discrete::ContactLaw stiff_law()

@@ -33,7 +33,7 @@ namespace wirefem::discrete
     nodes.node_mass = mass;
     nodes.first = 0;
     nodes.last = n + 1;
-    nodes.n_prescribed = 1;
+    nodes.n_prescribed = nodes.n_prescribed_last = 1;
     for (int k = 0; k <= n; ++k)
       nodes.x[k] = {k * lambda0, 0.0};
 
@@ -197,7 +197,7 @@ namespace wirefem::discrete
     nodes.node_mass = mass;
     nodes.first = 0;
     nodes.last = n + 1;
-    nodes.n_prescribed = velocity ? 2 : 0;
+    nodes.n_prescribed = nodes.n_prescribed_last = velocity ? 2 : 0;
     for (int k = 0; k <= n; ++k)
       nodes.x[k] = on_circle(cap.Rc, start_angle - k * cap.zeta);
     cap.x0 = nodes.x;

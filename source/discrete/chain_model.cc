@@ -83,13 +83,10 @@ namespace wirefem::discrete
     else if (scene::general_wall(scene.cavity, scene.injection))
       {
         // Any cavity, channels anywhere: the initial wire is the curve
-        // between the inlets, n0 whole segments long.
-        auto cavity = scene::cavity_wall(scene.cavity);
-        const auto mouths = scene::channel_mouths(cavity, scene.injection);
-        const injection::InitialCurve curve(mouths[0], mouths[1]);
-        channels.place(mouths[0], mouths[1], std::lround(curve.length() / lambda0) * lambda0,
-                       curve.turning());
-        shaped_wall = std::make_shared<const ShapedWall>(std::move(cavity), mouths);
+        // between the inlets (or one inlet's stub), n0 whole segments long.
+        shaped_wall = scene::channelled_wall(scene.cavity, scene.injection);
+        const auto curve = injection::initial_curve(*shaped_wall, lambda0);
+        channels.place(shaped_wall->mouths, std::lround(curve.length() / lambda0) * lambda0, curve.turning());
       }
     const int n0 = static_cast<int>(std::lround(channels.initial_length() / lambda0));
     const double max_length = scene.injection.maximum_packing_density * M_PI * radius * radius / diameter;
@@ -105,14 +102,17 @@ namespace wirefem::discrete
       hold += std::sqrt(2.0 * channels.inlet(Side::right).x * diameter) + diameter;
     // An oblique channel's mouth reaches d tan(angle) further along it.
     hold += diameter * std::tan(scene.injection.channel_angle * M_PI / 180.0);
-    const int extra =
-        static_cast<int>(std::ceil(std::max(0.0, max_length - channels.initial_length()) / (2.0 * lambda0))) +
-        static_cast<int>(std::ceil(hold / lambda0)) + 8;
+    // (Storage is laid out for both ends; one channel feeds all from the left.)
+    const int extra = static_cast<int>(std::ceil(std::max(0.0, max_length - channels.initial_length()) /
+                                                 (channels.count() * lambda0))) +
+                      static_cast<int>(std::ceil(hold / lambda0)) + 8;
     nodes = Chain(n0 + 1 + 2 * 2 + 2 * extra);
     nodes.lambda0 = lambda0;
     window[0].length = window[1].length = lambda0;
     nodes.node_mass = mass;
     nodes.n_prescribed = 2;
+    // One channel: the wire's last node is its free end.
+    nodes.n_prescribed_last = channels.pushes(Side::right) ? 2 : 0;
     place_initial_wire(scene);
     feed_channels();
   }
@@ -217,7 +217,7 @@ namespace wirefem::discrete
     nodes.first = extra;
     left_origin = nodes.first + 1;
     right_origin = left_origin + n0;
-    nodes.last = right_origin + 2;
+    nodes.last = right_origin + 1 + nodes.n_prescribed_last / 2;
     for (int k = nodes.first; k <= left_origin; ++k)
       nodes.x[k] = channels.position(Side::left, (k - left_origin) * lambda0, 0.0);
     for (int k = right_origin; k < nodes.last; ++k)
@@ -234,13 +234,16 @@ namespace wirefem::discrete
       }
     else if (shaped_wall)
       {
-        // The curve between the inlets with the seeded perturbation across
-        // it, its nodes equally spaced along the curve.
-        const injection::InitialCurve curve(shaped_wall->mouths[0], shaped_wall->mouths[1]);
-        const double span = curve.length(), ds = span / n0;
-        const injection::InitialShape shape(scene.injection.seed, scene.injection.perturbation, span,
-                                            scene.injection.mirror_asymmetry);
-        for (int k = left_origin + 1; k < right_origin; ++k)
+        // The curve between the inlets (or the stub to the free end) with
+        // the seeded perturbation across it, its nodes equally spaced along
+        // the curve.
+        const auto curve = injection::initial_curve(*shaped_wall, lambda0);
+        const double ds = curve.length() / n0;
+        const auto &in = scene.injection;
+        const auto shape = injection::initial_shape(in.seed, in.perturbation, in.mirror_asymmetry, curve,
+                                                    shaped_wall->mouths.size());
+        const int end = channels.pushes(Side::right) ? right_origin : right_origin + 1;
+        for (int k = left_origin + 1; k < end; ++k)
           nodes.x[k] = curve.perturbed((k - left_origin) * ds, shape);
       }
     else
@@ -273,7 +276,7 @@ namespace wirefem::discrete
         nodes.v[k] = v * channels.axis(Side::left);
         ledger.injection_work += 0.5 * nodes.node_mass * v * v;
       }
-    while (channels.depth(Side::right, nodes.x[nodes.last - 2]) > -hold)
+    while (channels.pushes(Side::right) && channels.depth(Side::right, nodes.x[nodes.last - 2]) > -hold)
       {
         if (nodes.last == nodes.capacity())
           throw std::runtime_error("chain storage exhausted at the right channel");
@@ -308,7 +311,7 @@ namespace wirefem::discrete
     // minus the force the wire exerts on them.
     const Vec2 al = channels.axis(Side::left), ar = channels.axis(Side::right);
     inlet_force[0] = -dot(c.f[c.first] + c.f[c.first + 1], al);
-    inlet_force[1] = -dot(c.f[c.last - 1] + c.f[c.last - 2], ar);
+    inlet_force[1] = channels.pushes(Side::right) ? -dot(c.f[c.last - 1] + c.f[c.last - 2], ar) : 0.0;
     // Work of the channels over the step: force times the exact injected length.
     const double du = channels.injected_per_channel(t + dt) - channels.injected_per_channel(t);
     ledger.injection_work += (inlet_force[0] + inlet_force[1]) * du;
@@ -321,7 +324,7 @@ namespace wirefem::discrete
     // v_{n+1/2} after), so the kinetic energy at step n that the scheme
     // conserves to second order with the potentials at x_n is
     // 1/2 m v_{n-1/2} . v_{n+1/2}.
-    for (int k = c.first + c.n_prescribed; k < c.last - c.n_prescribed; ++k)
+    for (int k = c.first + c.n_prescribed; k < c.last - c.n_prescribed_last; ++k)
       {
         const Vec2 v_old = c.v[k];
         c.v[k] += (dt * inv_m) * c.f[k];
@@ -336,7 +339,7 @@ namespace wirefem::discrete
         c.x[k] = channels.position(Side::left, (k - left_origin) * lambda0, t);
         c.v[k] = vt * al;
       }
-    for (int k = c.last - c.n_prescribed; k < c.last; ++k)
+    for (int k = c.last - c.n_prescribed_last; k < c.last; ++k)
       {
         c.x[k] = channels.position(Side::right, (right_origin - k) * lambda0, t);
         c.v[k] = vt * ar;
@@ -438,7 +441,8 @@ namespace wirefem::discrete
       shaped_wall->describe(w);
     w.time = t;
     w.injected_length = injected_length();
-    const int k0 = nodes.first + 1, k1 = nodes.last - 2; // the nodes at the inlets
+    // The nodes at the inlets (one channel: the last is the free end).
+    const int k0 = nodes.first + 1, k1 = nodes.last - 1 - nodes.n_prescribed_last / 2;
     const int n = k1 - k0 + 1;
     w.resize(n);
     for (int k = k0; k <= k1; ++k)

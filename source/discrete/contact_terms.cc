@@ -479,7 +479,7 @@ namespace wirefem::discrete
     for (int k = c.first; k + 1 < c.last; ++k)
       if (!add_segment(c, k, k + 1, injection::Side::left, e))
         break;
-    for (int k = c.last - 1; k - 1 >= c.first; --k)
+    for (int k = c.last - 1; channels.pushes(injection::Side::right) && k - 1 >= c.first; --k)
       if (!add_segment(c, k - 1, k, injection::Side::right, e))
         break;
   }

@@ -206,8 +206,10 @@ namespace wirefem::discrete
   {
     const double cm = gamma * c.node_mass;
     for (int i = 0; i < c.n_prescribed; ++i)
-      previous.trial[c.first + i] = previous.trial[c.last - 1 - i] = Vec2{}; // no damping there
-    for (int k = c.first + c.n_prescribed; k < c.last - c.n_prescribed; ++k)
+      previous.trial[c.first + i] = Vec2{}; // no damping there
+    for (int i = 0; i < c.n_prescribed_last; ++i)
+      previous.trial[c.last - 1 - i] = Vec2{};
+    for (int k = c.first + c.n_prescribed; k < c.last - c.n_prescribed_last; ++k)
       {
         c.f[k] -= cm * c.v[k];
         e.damping_work += cm * 0.5 * dot(previous.committed[k] + c.v[k], c.v[k]) * dt;

@@ -369,6 +369,8 @@ namespace wirefem::fem
       std::vector<double> X(nd), grad(nd), mat(nd * nd);
       for (const Side side : {Side::left, Side::right})
         {
+          if (!channels.pushes(side))
+            continue;
           const double cut = side == Side::left ? left_inlet_S(wall_time) : right_inlet_S(wall_time);
           const Vec2 inlet = channels.cut_origin(side), ax = channels.cut_normal(side),
                      n = perp(channels.axis(side));
@@ -431,7 +433,7 @@ namespace wirefem::fem
         // force continuously differentiable in every position
         // (point_stretch_contact: every segment within reach presses it,
         // less the nodes shared by two of them).
-        const int first_segment = first - 1, last_segment = last + 1 - 2; // nodes [first - 1, last + 1)
+        const int first_segment = first - 1, last_segment = past(last) - 2; // nodes [first - 1, past(last))
         const double fs = rq.friction_scale();
         const auto at = [&](const int k) { return position(u1, k); };
         const auto allowed = [&](const int node, const int s) {

@@ -157,7 +157,7 @@ namespace wirefem::fem
     // place of its first node: both ways, half the penalty each, each point
     // pressed once by the stretch of wire it faces (point_stretch_contact).
     const auto &u1 = *rq.u;
-    const int first_segment = rq.first - 1, last_segment = rq.last + 1 - 2;
+    const int first_segment = rq.first - 1, last_segment = past(rq.last) - 2;
     const double fs = rq.friction_scale();
     const auto at = [&](const int k) { return position(u1, k); };
     const auto allowed = [&](const int a, const int s) {

@@ -193,10 +193,13 @@ namespace wirefem::fem
     const double s0 = m.left_inlet_S(m.t);
     int k0, k1;
     m.inside_range(m.t, k0, k1);
-    const int n = k1 - k0 + 2;
+    // (One channel: the last free node is the wire's free end.)
+    const bool two = m.channels.pushes(Side::right);
+    const int n = k1 - k0 + (two ? 2 : 1);
     w.resize(n);
     w.points[0] = m.channels.inlet(Side::left);
-    w.points[n - 1] = m.channels.inlet(Side::right);
+    if (two)
+      w.points[n - 1] = m.channels.inlet(Side::right);
     w.arc_length[n - 1] = injected_length();
     const double EI = m.scene.wire.bending_stiffness;
     // Curvature and plastic curvature at a node: mean over the quadrature

@@ -429,14 +429,14 @@ namespace wirefem::fem
     /// The injection's initial wire (across the cavity, the tangential S or
     /// the curve between channels anywhere), on the channel axes beyond.
     void place_injected_wire(const scene::RodScene &s), place_on_initial_curve(const scene::RodScene &s);
-
     int node_dof(unsigned int node, unsigned int c) const { return static_cast<int>(3 * node + c); }
     /// Wire pushed through each channel by this time.
     double injected_at(double time) const { return channels.injected_per_channel(injection_time(time)); }
     double left_inlet_S(double time) const { return a_left - injected_at(time); }
-    double right_inlet_S(double time) const { return a_right + injected_at(time); }
-    /// The nodes with material coordinate in (sl, sr).
+    double right_inlet_S(double t) const { return a_right + (channels.count() > 1 ? injected_at(t) : 0.0); }
+    /// The nodes with material coordinate in (sl, sr); past(last): one more, within the mesh (a free end).
     void nodes_between(double sl, double sr, int &first, int &last) const;
+    int past(int last) const { return std::min(last + 1, static_cast<int>(n_nodes)); }
     void free_range(double time, int &first, int &last) const;
     /// The nodes strictly between the inlets (material coordinate past them).
     void inside_range(double time, int &first, int &last) const;

@@ -124,20 +124,20 @@ namespace wirefem::fem
       {
         // Any cavity, channels anywhere: the initial wire is the curve
         // between the inlets (not rounded), and an oblique mouth reaches
-        // d tan(angle) further along its channel.
-        auto wall = scene::cavity_wall(s.cavity);
-        const auto mouths = scene::channel_mouths(wall, s.injection);
-        const injection::InitialCurve curve(mouths[0], mouths[1]);
-        channels.place(mouths[0], mouths[1], curve.length(), curve.turning());
+        // d tan(angle) further along its channel. One channel's stub is
+        // whole elements long, so that the mesh ends at its free end.
+        wall_settings.shaped = scene::channelled_wall(s.cavity, s.injection);
+        const auto curve = injection::initial_curve(*wall_settings.shaped, h);
+        channels.place(wall_settings.shaped->mouths, curve.length(), curve.turning());
         hold += diameter * std::tan(s.injection.channel_angle * M_PI / 180.0);
-        wall_settings.shaped = std::make_shared<const injection::ChannelledWall>(std::move(wall), mouths);
       }
     const double L0 = channels.initial_length();
     k_channel = s.contact.normal_stiffness / diameter;
-    const double per_channel = 0.5 * (L_max - L0) + 2.0 * h + hold;
+    const unsigned int n_pushing = static_cast<unsigned int>(channels.count());
+    const double per_channel = (L_max - L0) / n_pushing + 2.0 * h + hold;
     const unsigned int n_channel = static_cast<unsigned int>(std::ceil(per_channel / h));
     const unsigned int n_cavity = static_cast<unsigned int>(std::ceil(L0 / h - 1e-9));
-    n_cells = 2 * n_channel + n_cavity;
+    n_cells = n_pushing * n_channel + n_cavity;
     a_left = n_channel * h;
     a_right = a_left + L0;
   }
@@ -411,7 +411,11 @@ namespace wirefem::fem
         return;
       }
     nodes_between(left_inlet_S(time) - hold, right_inlet_S(time) + hold, first, last);
-    if (first < 1 || last >= static_cast<int>(n_nodes))
+    // One channel: the wire is free through its last node.
+    const bool free_end = !channels.pushes(Side::right);
+    if (free_end)
+      last = static_cast<int>(n_nodes);
+    if (first < 1 || (!free_end && last >= static_cast<int>(n_nodes)))
       throw std::runtime_error("the wire in the channels is used up (Injection/Maximum packing density "
                                "sets how much wire the mesh holds)");
   }
@@ -425,6 +429,8 @@ namespace wirefem::fem
         return;
       }
     nodes_between(left_inlet_S(time), right_inlet_S(time), first, last);
+    if (!channels.pushes(Side::right))
+      last = static_cast<int>(n_nodes);
   }
 
   void RodModel::Impl::prescribe(const double time, dealii::Vector<double> &x, dealii::Vector<double> *vel,

@@ -53,18 +53,21 @@ namespace wirefem::fem
     // The discrete model's start: the curve between the inlets with the
     // seeded perturbation across it; the section angle is the direction of
     // the perturbed curve, continuous from the left channel's on.
-    const auto &mouths = wall_settings.shaped->mouths;
-    const injection::InitialCurve curve(mouths[0], mouths[1]);
+    // One channel: the stub to the free end, which the last node reaches.
+    const auto &wall = *wall_settings.shaped;
+    const auto curve = injection::initial_curve(wall, h);
     const double L0 = channels.initial_length();
-    const injection::InitialShape shape(s.injection.seed, s.injection.perturbation, L0,
-                                        s.injection.mirror_asymmetry);
+    const auto &in = s.injection;
+    const auto shape =
+        injection::initial_shape(in.seed, in.perturbation, in.mirror_asymmetry, curve, wall.mouths.size());
     const auto at = [&](const double xi) { return curve.perturbed(xi, shape); };
+    const bool free_end = !channels.pushes(Side::right);
     double angle = channels.wire_angle(Side::left);
     for (int k = first_free; k < last_free; ++k)
       {
         const double xi = node_S[k] - a_left;
         Vec2 pos;
-        if (xi <= 0.0 || xi >= L0)
+        if (xi <= 0.0 || (xi >= L0 && !free_end))
           {
             pos = xi <= 0.0 ? channels.position(Side::left, xi, 0.0)
                             : channels.position(Side::right, L0 - xi, 0.0);

@@ -24,7 +24,7 @@ namespace wirefem::fem
       std::vector<Vec2> x(n_nodes);
       for (unsigned int k = 0; k < n_nodes; ++k)
         x[k] = position(u, k);
-      broad.update(x, first_free - 1, last_free + 1);
+      broad.update(x, first_free - 1, past(last_free));
     }
     // Forces at t_n with the velocities v_n (dashpot rates over the last step).
     Evaluation e;
@@ -130,7 +130,7 @@ namespace wirefem::fem
   void RodModel::Impl::update_contact_candidates(const int first, const int last)
   {
     core::SectionTimer::Scope ts(timer, "contact search");
-    broad.update(node_positions(u), first - 1, last + 1);
+    broad.update(node_positions(u), first - 1, past(last));
   }
 
   std::vector<Vec2> RodModel::Impl::node_positions(const dealii::Vector<double> &x) const
@@ -159,10 +159,10 @@ namespace wirefem::fem
     if (clamped || capstan) // no self contact
       return true;
     const std::vector<Vec2> xs = node_positions(x);
-    if (broad.covers(xs, first - 1, last + 1))
+    if (broad.covers(xs, first - 1, past(last)))
       return true;
     const std::vector<contact::SegmentPair> seen = broad.candidates();
-    broad.update(xs, first - 1, last + 1);
+    broad.update(xs, first - 1, past(last));
     for (const auto &pr : broad.candidates())
       if (closer_than(x, pr, diameter) && !std::binary_search(seen.begin(), seen.end(), pr))
         return false;

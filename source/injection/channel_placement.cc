@@ -83,6 +83,18 @@ namespace wirefem::injection
   {
     const double third = core::norm(right.inlet - left.inlet) / 3.0;
     control = {{left.inlet, left.inlet + third * left.axis, right.inlet + third * right.axis, right.inlet}};
+    tabulate();
+  }
+
+  InitialCurve::InitialCurve(const ChannelMouth &channel, const double stub_length)
+  {
+    const Vec2 step = (stub_length / 3.0) * channel.axis;
+    control = {{channel.inlet, channel.inlet + step, channel.inlet + 2.0 * step, channel.inlet + 3.0 * step}};
+    tabulate();
+  }
+
+  void InitialCurve::tabulate()
+  {
     // Arc length by Simpson's rule on each of n intervals of the parameter.
     const int n = 2048;
     table.assign(n + 1, 0.0);
@@ -146,9 +158,44 @@ namespace wirefem::injection
     return sum;
   }
 
-  ChannelledWall::ChannelledWall(geometry::Cavity cavity_in, const std::array<ChannelMouth, 2> &mouths_in)
+  double free_end_length(const geometry::Cavity &cavity, const ChannelMouth &channel)
+  {
+    // March along the axis from past the mouth in steps of d/4 until the
+    // point leaves the cavity, then bisect.
+    const double reach = 4.0 * std::sqrt(cavity.area() / M_PI);
+    const auto inside = [&](const double t) { return cavity.contains(channel.inlet + t * channel.axis); };
+    double lo = std::max(channel.corner_depth[0], channel.corner_depth[1]) + 0.5, hi = lo;
+    while (inside(hi) && hi < reach)
+      {
+        lo = hi;
+        hi += 0.25;
+      }
+    for (int i = 0; i < 60; ++i)
+      {
+        const double mid = 0.5 * (lo + hi);
+        (inside(mid) ? lo : hi) = mid;
+      }
+    return 0.25 * (lo + hi);
+  }
+
+  InitialCurve initial_curve(const ChannelledWall &wall, const double unit)
+  {
+    if (wall.mouths.size() == 2)
+      return InitialCurve(wall.mouths[0], wall.mouths[1]);
+    const double length = free_end_length(wall.cavity, wall.mouths[0]);
+    return InitialCurve(wall.mouths[0],
+                        unit > 0.0 ? std::max(1.0, std::round(length / unit)) * unit : length);
+  }
+
+  InitialShape initial_shape(const unsigned int seed, const double amplitude, const double mirror_asymmetry,
+                             const InitialCurve &curve, const std::size_t n_channels)
+  {
+    return InitialShape(seed, amplitude, (n_channels == 2 ? 1.0 : 2.0) * curve.length(), mirror_asymmetry);
+  }
+
+  ChannelledWall::ChannelledWall(geometry::Cavity cavity_in, std::vector<ChannelMouth> mouths_in)
     : cavity(std::move(cavity_in))
-    , mouths(mouths_in)
+    , mouths(std::move(mouths_in))
   {
   }
 

@@ -89,14 +89,23 @@ namespace wirefem::scene
     return 0.0;
   }
 
-  std::array<injection::ChannelMouth, 2> channel_mouths(const geometry::Cavity &wall,
-                                                        const InjectionParameters &in)
+  std::vector<injection::ChannelMouth> channel_mouths(const geometry::Cavity &wall,
+                                                      const InjectionParameters &in)
   {
     const double angle = in.channel_angle * M_PI / 180.0;
     const double start =
         wall.shape() == geometry::Cavity::Shape::polygon ? wall_start(wall) / wall.perimeter() : 0.0;
-    const auto at = [&](const double f) { return std::fmod(start + f, 1.0); };
-    return {{injection::place_channel(wall, at(in.channel_positions.at(0)), angle, 1.0),
-             injection::place_channel(wall, at(in.channel_positions.at(1)), angle, 1.0)}};
+    std::vector<injection::ChannelMouth> mouths;
+    for (const double f : in.channel_positions)
+      mouths.push_back(injection::place_channel(wall, std::fmod(start + f, 1.0), angle, 1.0));
+    return mouths;
+  }
+
+  std::shared_ptr<const injection::ChannelledWall> channelled_wall(const CavityParameters &cavity,
+                                                                   const InjectionParameters &injection)
+  {
+    auto wall = cavity_wall(cavity);
+    auto mouths = channel_mouths(wall, injection);
+    return std::make_shared<const injection::ChannelledWall>(std::move(wall), std::move(mouths));
   }
 } // namespace wirefem::scene

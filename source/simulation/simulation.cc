@@ -149,6 +149,13 @@ namespace wirefem::simulation
       std::chrono::steady_clock::time_point last_checkpoint;
 
       double radius() const { return scene.cavity.radius; }
+      /// How many channels push (Injection/Channel positions: one or two).
+      int channels() const { return static_cast<int>(scene.injection.channel_positions.size()); }
+      /// The inlet force: the mean over the pushing channels.
+      double inlet_force() const
+      {
+        return channels() == 1 ? model.force_left() : 0.5 * (model.force_left() + model.force_right());
+      }
       double elapsed() const
       {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -180,7 +187,8 @@ namespace wirefem::simulation
         {
           const double L_max =
               run.scene.injection.maximum_packing_density * M_PI * run.radius() * run.radius();
-          const double steps = (L_max - model.injected_length()) / (2.0 * run.scene.injection.speed * dt);
+          const double steps =
+              (L_max - model.injected_length()) / (run.channels() * run.scene.injection.speed * dt);
           warn(run.result,
                fmt::format("time step {:.3g} is below {:g}: about {:.2g} steps to Injection/Maximum "
                            "packing density (the stiffest term sets the step: Contact/Normal "
@@ -217,7 +225,7 @@ namespace wirefem::simulation
         run.series->write_row({model.time(),
                                w.injected_length,
                                phi,
-                               0.5 * (model.force_left() + model.force_right()),
+                               run.inlet_force(),
                                model.force_left(),
                                model.force_right(),
                                double(loops),
@@ -266,7 +274,7 @@ namespace wirefem::simulation
       const double L = model.injected_length();
       const double mean_weight = std::min(1.0, (L - loop.previous_length) / inj.jamming_window);
       loop.previous_length = L;
-      loop.force_mean += mean_weight * (0.5 * (model.force_left() + model.force_right()) - loop.force_mean);
+      loop.force_mean += mean_weight * (run.inlet_force() - loop.force_mean);
       const double phi = analysis::packing_density(L, run.radius());
       if (L >= loop.next_row)
         {
@@ -434,7 +442,7 @@ namespace wirefem::simulation
                      {"friction_dissipation", e.friction},
                      {"damping_dissipation", e.damping},
                      {"balance_error", e.balance_error()}};
-      j["force_final"] = 0.5 * (model.force_left() + model.force_right());
+      j["force_final"] = run.inlet_force();
       add_fits(j, (run.dir / "series.csv").string(), result.phi_final);
       return j;
     }

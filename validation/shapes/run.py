@@ -3,7 +3,8 @@
 scenes at f = 25 (every shape has the circle's area) with 3 seeds, for
 channels turned 0, 30, 60 and 90 degrees from the wall's normal on the
 circle (90: Injection/Channels = tangential) and for ellipses of aspect
-ratio 1 (the circle), 1.5 and 2 with facing channels, discrete model.
+ratio 1 (the circle), 1.5 and 2 with facing channels, and for one channel
+on the circle (the wire's other end free), discrete model.
 
     validation/shapes/run.py WIREFEM OUTDIR [--jobs N] [--seeds S...] [--radius F]
 
@@ -32,6 +33,7 @@ GEOMETRIES = [
     ("circle_90", "circle, 90 deg (tangential)", ["Injection/Channels=tangential"]),
     ("ellipse_1.5", "ellipse 1.5, 0 deg", ["Cavity/Shape=ellipse", "Cavity/Aspect ratio=1.5"]),
     ("ellipse_2", "ellipse 2, 0 deg", ["Cavity/Shape=ellipse", "Cavity/Aspect ratio=2"]),
+    ("circle_one", "circle, one channel, 0 deg", ["Injection/Channel positions=0.5"]),
 ]
 
 
@@ -61,7 +63,9 @@ def report(results, seeds, radius, command):
              "(`run.py` lists them). Regenerate with", "", f"    {command}", "",
              "phi and loops: mean +- standard deviation over the seeds at the end of the run (jamming, "
              "or the scene's maximum packing density 0.6); morphology: the label of each seed "
-             "(docs/analysis.md says what the labels mean in a cavity that is not a circle).", "",
+             "(docs/analysis.md says what the labels mean in a cavity that is not a circle). With one "
+             "channel, symmetry is the share of the wire its mirror image about the channel's axis "
+             "covers (random strewing scores about phi/2), not the two-channel score.", "",
              "| scene | geometry | morphology | phi at the end | jammed | loops | symmetry | largest overlap (d) "
              "| worst balance error |", "|---|---|---|---|---|---|---|---|---|"]
     for scene, _ in SCENES:

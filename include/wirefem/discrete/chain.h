@@ -4,8 +4,9 @@
 // (first decreases, last increases), so indices never shift and contact
 // history keyed by them stays valid.
 //
-// The n_prescribed outermost nodes at each end sit in the channels and move
-// with the injection; all others are free.
+// The n_prescribed outermost nodes at the first end and n_prescribed_last at
+// the last sit in the channels and move with the injection; all others are
+// free (with one channel the last end is free).
 #pragma once
 
 #include <wirefem/core/vec2.h>
@@ -19,11 +20,12 @@ namespace wirefem::discrete
 {
   struct Chain
   {
-    double lambda0 = 1.0;   ///< rest length of a segment (d)
-    double node_mass = 1.0; ///< rho A lambda_0
-    int first = 0;          ///< first active node (storage index)
-    int last = 0;           ///< one past the last active node
-    int n_prescribed = 2;   ///< nodes held by each channel
+    double lambda0 = 1.0;      ///< rest length of a segment (d)
+    double node_mass = 1.0;    ///< rho A lambda_0
+    int first = 0;             ///< first active node (storage index)
+    int last = 0;              ///< one past the last active node
+    int n_prescribed = 2;      ///< nodes held by the channel at the first end
+    int n_prescribed_last = 2; ///< and at the last end (0: a free end)
 
     std::vector<core::Vec2> x;         ///< positions (d)
     std::vector<core::Vec2> v;         ///< velocities (d / time)
@@ -39,7 +41,7 @@ namespace wirefem::discrete
     }
     int capacity() const { return static_cast<int>(x.size()); }
     int n_active() const { return last - first; }
-    bool is_free(const int k) const { return k >= first + n_prescribed && k < last - n_prescribed; }
+    bool is_free(const int k) const { return k >= first + n_prescribed && k < last - n_prescribed_last; }
   };
 
   /// The explicit time step: a fraction `factor` of the stability limit.

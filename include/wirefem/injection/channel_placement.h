@@ -64,7 +64,7 @@ namespace wirefem::injection
   bool touch_corner(const core::Vec2 &corner, const core::Vec2 &p, double half_d, double &overlap,
                     core::Vec2 &towards);
 
-  /// Any cavity's wall with the two channels' mouths cut in it: a point
+  /// Any cavity's wall with the channels' mouths cut in it (one or two): a point
   /// whose nearest wall point lies in a mouth, or that is in a channel
   /// behind its mouth, meets the mouth's nearer corner; any other point
   /// meets the wall. So the contact distance is continuous as the wire
@@ -72,9 +72,9 @@ namespace wirefem::injection
   struct ChannelledWall
   {
     geometry::Cavity cavity;
-    std::array<ChannelMouth, 2> mouths;
+    std::vector<ChannelMouth> mouths; ///< [0] the left channel, [1] the right one if any
 
-    ChannelledWall(geometry::Cavity cavity, const std::array<ChannelMouth, 2> &mouths);
+    ChannelledWall(geometry::Cavity cavity, std::vector<ChannelMouth> mouths);
     /// Whether a point of the wire's centreline at p, the surface half_d
     /// away, overlaps the wall.
     bool touch(const core::Vec2 &p, double half_d, WallTouch &out) const;
@@ -87,11 +87,13 @@ namespace wirefem::injection
   /// left inlet along its axis to the right inlet, arriving against the
   /// right channel's axis, with control points a third of the inlets'
   /// distance along the axes (a straight line when the channels face each
-  /// other), by arc length.
+  /// other), by arc length. From one channel: the straight stub of a given
+  /// length along its axis, ending free in the cavity.
   class InitialCurve
   {
   public:
     InitialCurve(const ChannelMouth &left, const ChannelMouth &right);
+    InitialCurve(const ChannelMouth &channel, double stub_length);
     double length() const { return table.back(); }
     struct Point
     {
@@ -114,7 +116,24 @@ namespace wirefem::injection
   private:
     std::array<core::Vec2, 4> control;
     std::vector<double> table; ///< arc length at parameter k / (size - 1)
+    void tabulate();
     core::Vec2 point(double u) const;
     core::Vec2 tangent(double u) const;
   };
+
+  /// Half the length of the channel's axis across the cavity, from its
+  /// inlet to where the axis meets the wall again: the free end of one
+  /// channel's initial stub stops in the middle of that chord.
+  double free_end_length(const geometry::Cavity &cavity, const ChannelMouth &channel);
+
+  /// The initial wire of the wall's channels: the curve between two inlets;
+  /// from one, the stub of free_end_length rounded to whole `unit`s (the
+  /// model's element or segment length; 0 leaves it as it is).
+  InitialCurve initial_curve(const ChannelledWall &wall, double unit);
+
+  /// The seeded perturbation (injection/inlet.h) across that curve: over its
+  /// length between two channels; from one, over twice the stub's length,
+  /// so that the stub's free end is where the first mode peaks.
+  InitialShape initial_shape(unsigned int seed, double amplitude, double mirror_asymmetry,
+                             const InitialCurve &curve, std::size_t n_channels);
 } // namespace wirefem::injection

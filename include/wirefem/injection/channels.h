@@ -1,4 +1,4 @@
-// The two injection channels: at (-r, 0) pointing +x and at (r, 0) pointing
+// The injection channels: at (-r, 0) pointing +x and at (r, 0) pointing
 // -x (radial, the paper's set-up), or tangential: along the wall, at
 // (-r', 0) pointing -y and at (r', 0) pointing +y with r' = r - d/2 the
 // radius of the wire's centreline on the wall, so both push the wire round
@@ -27,6 +27,7 @@
 #include <cmath>
 #include <limits>
 #include <utility>
+#include <vector>
 
 namespace wirefem::injection
 {
@@ -65,17 +66,25 @@ namespace wirefem::injection
     /// Puts the channels anywhere (injection/channel_placement.h): each
     /// channel's inlet, axis and mouth; L0 the rest length of the initial
     /// wire between the inlets, and the angle its tangent turns through
-    /// from the left inlet to the right one.
-    void place(const ChannelMouth &left, const ChannelMouth &right, double initial_length, double turning)
+    /// from the left inlet to the right one. With one mouth, the left
+    /// channel alone pushes, the wire's other end is free, and L = L0 + u(t).
+    void place(const std::vector<ChannelMouth> &mouths, double initial_length, double turning)
     {
-      inlets = {{left.inlet, right.inlet}};
-      axes = {{left.axis, right.axis}};
-      cut_origins = {{left.cut_origin, right.cut_origin}};
-      cut_normals = {{left.cut_normal, right.cut_normal}};
+      n_channels = static_cast<int>(mouths.size());
+      for (int k = 0; k < n_channels; ++k)
+        {
+          inlets[k] = mouths[k].inlet;
+          axes[k] = mouths[k].axis;
+          cut_origins[k] = mouths[k].cut_origin;
+          cut_normals[k] = mouths[k].cut_normal;
+        }
       initial_length_ = initial_length;
-      const double first = std::atan2(left.axis.y, left.axis.x);
+      const double first = std::atan2(mouths[0].axis.y, mouths[0].axis.x);
       angles = {{first, first + turning}};
     }
+    /// How many channels push: 2, or 1 (place()).
+    int count() const { return n_channels; }
+    bool pushes(Side s) const { return static_cast<int>(s) < n_channels; }
     bool is_tangential() const { return tangential; }
     /// Angle of the wire's tangent in both channels, taken along the wire
     /// from the left end to the right: 0 (radial) or -pi/2 (tangential).
@@ -146,8 +155,8 @@ namespace wirefem::injection
     {
       return ramp_length(speed, t) + (t > second_start ? ramp_length(second_speed, t - second_start) : 0.0);
     }
-    /// Wire length inside the cavity, L = L0 + 2 u(t).
-    double injected_length(double t) const { return initial_length_ + 2.0 * injected_per_channel(t); }
+    /// Wire length inside the cavity, L = L0 + 2 u(t) (one channel: L0 + u(t)).
+    double injected_length(double t) const { return initial_length_ + n_channels * injected_per_channel(t); }
     /// L0.
     double initial_length() const { return initial_length_; }
 
@@ -168,6 +177,7 @@ namespace wirefem::injection
     }
 
     bool tangential = false;
+    int n_channels = 2;
     double inlet_radius; ///< distance of the inlets from the centre (radial, tangential)
     std::array<core::Vec2, 2> inlets{{{-inlet_radius, 0.0}, {inlet_radius, 0.0}}};
     std::array<core::Vec2, 2> axes{{{1.0, 0.0}, {-1.0, 0.0}}};

@@ -6,7 +6,8 @@
 #include <wirefem/injection/channel_placement.h>
 #include <wirefem/scene/parameters.h>
 
-#include <array>
+#include <memory>
+#include <vector>
 
 namespace wirefem::scene
 {
@@ -24,9 +25,14 @@ namespace wirefem::scene
   /// of the wall point where the +x axis from the centroid meets the wall.
   double wall_start(const geometry::Cavity &wall);
 
-  /// The channels on that wall, [0] the left one, [1] the right one, each
-  /// one wire diameter wide, at Injection/Channel positions counted from
-  /// wall_start. Throws std::invalid_argument.
-  std::array<injection::ChannelMouth, 2> channel_mouths(const geometry::Cavity &wall,
-                                                        const InjectionParameters &injection);
+  /// The channels on that wall, [0] the left one, [1] the right one (if
+  /// Injection/Channel positions names two), each one wire diameter wide,
+  /// at those positions counted from wall_start. Throws
+  /// std::invalid_argument.
+  std::vector<injection::ChannelMouth> channel_mouths(const geometry::Cavity &wall,
+                                                      const InjectionParameters &injection);
+
+  /// The wall with the channels' mouths cut in it, as both models hold it.
+  std::shared_ptr<const injection::ChannelledWall> channelled_wall(const CavityParameters &cavity,
+                                                                   const InjectionParameters &injection);
 } // namespace wirefem::scene
