@@ -46,12 +46,26 @@ namespace
     return {best, winding != 0};
   }
 
+  /// A wavy 96-gon, radius 10 + 1.5 sin(6 theta) (reflex corners too):
+  /// many short pieces, each cell of the polygon's grid lists a few.
+  std::vector<Vec2> wavy()
+  {
+    std::vector<Vec2> v;
+    for (int k = 0; k < 96; ++k)
+      {
+        const double t = 2.0 * M_PI * k / 96, rho = 10.0 + 1.5 * std::sin(6.0 * t);
+        v.push_back({rho * std::cos(t), rho * std::sin(t)});
+      }
+    return v;
+  }
+
   /// The shapes under test: two ellipses (one taller than wide), a rounded
-  /// square, a rounded L (a reflex corner) and a rounded triangle given
-  /// clockwise.
+  /// square, a rounded L (a reflex corner), a rounded triangle given
+  /// clockwise and a wavy many-sided polygon.
   std::vector<std::pair<std::string, Cavity>> shapes()
   {
-    return {{"ellipse 1.5", Cavity::ellipse(15.0, 10.0)},
+    return {{"wavy 96-gon", Cavity::polygon(wavy(), 1.0)},
+            {"ellipse 1.5", Cavity::ellipse(15.0, 10.0)},
             {"ellipse 2, tall", Cavity::ellipse(8.0, 16.0)},
             {"rounded square", Cavity::polygon({{-10, -10}, {10, -10}, {10, 10}, {-10, 10}}, 3.0)},
             {"rounded L", Cavity::polygon({{0, 0}, {20, 0}, {20, 8}, {8, 8}, {8, 20}, {0, 20}}, 2.0)},

@@ -229,7 +229,72 @@ namespace wirefem::geometry
       }
     area_ = s[0];
     centroid_ = {s[1] / s[0], s[2] / s[0]};
+    build_grid();
     inradius_ = std::max(0.0, nearest_on_polygon(centroid_).depth);
+  }
+
+  int Cavity::Grid::index(const Vec2 &p) const
+  {
+    const double fx = (p.x - origin.x) / cell, fy = (p.y - origin.y) / cell;
+    if (!(fx >= 0.0 && fy >= 0.0 && fx < nx && fy < ny))
+      return -1;
+    return static_cast<int>(fy) * nx + static_cast<int>(fx);
+  }
+
+  void Cavity::build_grid()
+  {
+    // Cells of twice the corner radius, or of 1/256 of the perimeter if
+    // that is longer, over the wall's box grown by a cell.
+    Vec2 lo = pieces[0].from, hi = lo;
+    for (const auto &c : pieces)
+      for (const Vec2 &q : {c.from, c.to})
+        {
+          lo = {std::min(lo.x, q.x), std::min(lo.y, q.y)};
+          hi = {std::max(hi.x, q.x), std::max(hi.y, q.y)};
+        }
+    Grid g;
+    g.cell = std::max(2.0 * corner_radius, perimeter_ / 256.0);
+    g.origin = lo - Vec2{g.cell, g.cell};
+    g.nx = static_cast<int>(std::ceil((hi.x - lo.x) / g.cell)) + 2;
+    g.ny = static_cast<int>(std::ceil((hi.y - lo.y) / g.cell)) + 2;
+    // Each piece's box (an arc's: its circle's), grown by a cell, marks the
+    // cells it meets; pieces in order, so each cell lists them in order.
+    std::vector<std::vector<int>> lists(static_cast<std::size_t>(g.nx) * g.ny);
+    for (std::size_t k = 0; k < pieces.size(); ++k)
+      {
+        const auto &c = pieces[k];
+        const double rr = std::abs(c.radius);
+        Vec2 a =
+            rr > 0.0 ? c.centre - Vec2{rr, rr} : Vec2{std::min(c.from.x, c.to.x), std::min(c.from.y, c.to.y)};
+        Vec2 b =
+            rr > 0.0 ? c.centre + Vec2{rr, rr} : Vec2{std::max(c.from.x, c.to.x), std::max(c.from.y, c.to.y)};
+        a = a - Vec2{g.cell, g.cell} - g.origin;
+        b = b + Vec2{g.cell, g.cell} - g.origin;
+        const int i0 = std::max(0, static_cast<int>(std::floor(a.x / g.cell)));
+        const int j0 = std::max(0, static_cast<int>(std::floor(a.y / g.cell)));
+        const int i1 = std::min(g.nx - 1, static_cast<int>(std::floor(b.x / g.cell)));
+        const int j1 = std::min(g.ny - 1, static_cast<int>(std::floor(b.y / g.cell)));
+        for (int j = j0; j <= j1; ++j)
+          for (int i = i0; i <= i1; ++i)
+            lists[static_cast<std::size_t>(j) * g.nx + i].push_back(static_cast<int>(k));
+      }
+    g.cell_start.assign(lists.size() + 1, 0);
+    g.inside.assign(lists.size(), 0);
+    for (std::size_t i = 0; i < lists.size(); ++i)
+      {
+        g.cell_start[i + 1] = g.cell_start[i] + static_cast<int>(lists[i].size());
+        g.cell_pieces.insert(g.cell_pieces.end(), lists[i].begin(), lists[i].end());
+      }
+    // A cell without pieces is wholly on one side of the wall: its centre's.
+    grid = Grid{};
+    for (std::size_t i = 0; i < lists.size(); ++i)
+      if (lists[i].empty())
+        {
+          const Vec2 centre = g.origin + Vec2{(static_cast<double>(i % g.nx) + 0.5) * g.cell,
+                                              (static_cast<double>(i / g.nx) + 0.5) * g.cell};
+          g.inside[i] = nearest_on_polygon(centre).depth > 0.0;
+        }
+    grid = std::move(g);
   }
 
   void Cavity::build_ellipse()
@@ -286,20 +351,34 @@ namespace wirefem::geometry
         break;
       }
     const double r = inradius_ - delta;
-    return r > 0.0 && core::norm_square(p - centroid_) < r * r;
+    if (r > 0.0 && core::norm_square(p - centroid_) < r * r)
+      return true;
+    const int i = grid.index(p);
+    return i >= 0 && grid.cell >= delta && grid.cell_start[i] == grid.cell_start[i + 1] && grid.inside[i];
   }
 
   WallPoint Cavity::nearest_on_polygon(const Vec2 &p) const
   {
     std::size_t best = 0;
-    Vec2 q = nearest_on_piece(pieces[0], p);
-    double d2 = core::norm_square(p - q);
-    for (std::size_t k = 1; k < pieces.size(); ++k)
+    Vec2 q;
+    double d2 = INFINITY;
+    const auto consider = [&](const std::size_t k) {
+      const Vec2 qk = nearest_on_piece(pieces[k], p);
+      const double dk = core::norm_square(p - qk);
+      if (dk < d2)
+        best = k, q = qk, d2 = dk;
+    };
+    // The pieces of p's cell, in the wall's order: the nearest of all if
+    // it lies within a cell size (grid, above); else all of them.
+    const int i = grid.cell_start.empty() ? -1 : grid.index(p);
+    if (i >= 0)
+      for (int c = grid.cell_start[i]; c < grid.cell_start[i + 1]; ++c)
+        consider(static_cast<std::size_t>(grid.cell_pieces[c]));
+    if (!(d2 <= grid.cell * grid.cell))
       {
-        const Vec2 qk = nearest_on_piece(pieces[k], p);
-        const double dk = core::norm_square(p - qk);
-        if (dk < d2)
-          best = k, q = qk, d2 = dk;
+        d2 = INFINITY;
+        for (std::size_t k = 0; k < pieces.size(); ++k)
+          consider(k);
       }
     const Vec2 n = piece_normal(pieces[best], q);
     const double radius = pieces[best].radius;

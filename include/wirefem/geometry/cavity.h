@@ -8,7 +8,11 @@
 // there (pointing into the cavity) and the signed distance (positive
 // inside). Where two pieces of the wall are equally near (a point on the
 // medial axis, deeper in the cavity than the smallest corner radius), the
-// first piece in the wall's order is taken.
+// first piece in the wall's order is taken. A polygon finds the pieces near
+// a point through a grid of square cells, each listing the pieces within one
+// cell size of it (the pieces' boxes grown by that size); a point no listed
+// piece comes that near to falls back to all pieces, so the result is the
+// same as a search of all of them.
 #pragma once
 
 #include <wirefem/core/vec2.h>
@@ -58,7 +62,8 @@ namespace wirefem::geometry
     /// cavity than delta (inside the circle of radius r - delta; the
     /// ellipse scaled by 1 - delta / b, whose gap to the wall is at least
     /// delta as the wall's support function is at least b; the disc about
-    /// the polygon's centroid inside its wall, less delta).
+    /// the polygon's centroid inside its wall, less delta, or a grid cell
+    /// inside the polygon with no piece within a cell size >= delta).
     bool surely_deeper(const Vec2 &p, double delta) const;
     double area() const { return area_; }
     Vec2 centroid() const { return centroid_; }
@@ -94,8 +99,22 @@ namespace wirefem::geometry
     double area_ = 0.0, perimeter_ = 0.0;
     double inradius_ = 0.0; ///< polygon: the depth of its centroid
     Vec2 centroid_{};
+    /// polygon: the grid (see above), cells of `cell` from `grid_origin`,
+    /// nx by ny, cell i's pieces at cell_pieces[cell_start[i]..cell_start[i+1]),
+    /// and whether a cell without any lies inside the cavity.
+    struct Grid
+    {
+      Vec2 origin{};
+      double cell = 1.0;
+      int nx = 0, ny = 0;
+      std::vector<int> cell_start, cell_pieces;
+      std::vector<char> inside;
+      /// Cell index of p, or -1 outside the grid.
+      int index(const Vec2 &p) const;
+    } grid;
 
     void build_polygon();
+    void build_grid();
     void build_ellipse();
     WallPoint nearest_on_ellipse(const Vec2 &p) const;
     WallPoint nearest_on_polygon(const Vec2 &p) const;
