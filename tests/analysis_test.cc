@@ -426,6 +426,18 @@ namespace
     EXPECT_EQ(analysis::classify(shape(far, none, r)).symmetry, 0.0);
   }
 
+  /// The circle of radius r as a wall polygon with one channel at (-r, 0)
+  /// pointing +x, and no wire yet.
+  core::WireState one_channel_circle(const double r)
+  {
+    core::WireState w;
+    w.cavity_radius = r;
+    for (int k = 0; k < 64; ++k)
+      w.wall.push_back({r * std::cos(2.0 * M_PI * k / 64), r * std::sin(2.0 * M_PI * k / 64)});
+    w.channels = {{{-r, 0.0}, {1.0, 0.0}}};
+    return w;
+  }
+
   TEST(Morphology, OneChannelMirrorSymmetryIsTheShareOfTheWireItsImageCovers)
   {
     // One channel at (-r, 0) pointing +x in the circle: the mirror line is
@@ -433,11 +445,7 @@ namespace
     // half straight up from (-5, 0): the upper half's image lies 1 d or
     // more below the wire, so half the points are covered (6 of 12).
     const double r = 10.0;
-    core::WireState w;
-    w.cavity_radius = r;
-    for (int k = 0; k < 64; ++k)
-      w.wall.push_back({r * std::cos(2.0 * M_PI * k / 64), r * std::sin(2.0 * M_PI * k / 64)});
-    w.channels = {{{-r, 0.0}, {1.0, 0.0}}};
+    auto w = one_channel_circle(r);
     for (int k = 0; k <= 10; ++k)
       w.points.push_back({k - r, 0.0});
     w.curvature.assign(w.points.size(), 0.0);
@@ -454,6 +462,24 @@ namespace
     for (auto &p : w.points)
       p = {p.x, 0.3};
     EXPECT_DOUBLE_EQ(analysis::classify(w).symmetry, 0.0);
+  }
+
+  TEST(Morphology, OneChannelsCoilIsASpiral)
+  {
+    // A coil wound from the channel at (-r, 0), three turns inwards: both
+    // halves, followed from the inlet to the free end, turn the same way.
+    const double r = 10.0;
+    auto w = one_channel_circle(r);
+    for (int k = 0; k <= 300; ++k)
+      {
+        const double turn = 3.0 * k / 300.0, rho = 9.5 - 2.0 * turn;
+        w.points.push_back({-rho * std::cos(2.0 * M_PI * turn), -rho * std::sin(2.0 * M_PI * turn)});
+      }
+    w.curvature.assign(w.points.size(), 0.0);
+    const auto m = analysis::classify(w);
+    EXPECT_NEAR(m.winding_left, 1.5, 0.01); // counter-clockwise
+    EXPECT_NEAR(m.winding_right, 1.5, 0.01);
+    EXPECT_EQ(m.phase, "spiral");
   }
 
   TEST(Morphology, SpiralWhenBothHalvesWindTheSameWay)

@@ -1474,6 +1474,33 @@ namespace
     EXPECT_GT(straight.force_left(), 0.0);
   }
 
+  TEST(RodModel, OneChannelsFreeTipPressesTheWireAndItsTangentIsTheDerivative)
+  {
+    // The free tip (the last node, which begins no segment) presses the
+    // wire it meets as every other node does: a self contact at the tip's
+    // arc length appears, and the assembled tangent with it is the
+    // derivative of the residual.
+    fem::RodModel m(contact_scene("Injection/Channel positions=0.5"));
+    int checked = 0;
+    while (m.injected_length() < 60.0 && checked < 3)
+      {
+        m.step();
+        const auto w = m.wire_state();
+        const double tip = w.arc_length.back();
+        const bool at_tip = std::any_of(w.self_contacts.begin(), w.self_contacts.end(), [&](const auto &c) {
+          return std::abs(c.s_a - tip) < 1e-9 || std::abs(c.s_b - tip) < 1e-9;
+        });
+        if (at_tip && m.n_steps() % 5 == 0)
+          {
+            const double err = fem::RodModelProbe::step_checking_tangent(m);
+            EXPECT_GE(err, 0.0) << "the check did not run";
+            EXPECT_LT(err, 1e-6) << "at L = " << m.injected_length();
+            ++checked;
+          }
+      }
+    EXPECT_EQ(checked, 3) << "too few steps with the tip in self contact";
+  }
+
   TEST(RodModel, ModifiedNewtonSavesAndLoadsBitForBit)
   {
     // Every step starts from a tangent at its predictor, so no factors

@@ -49,7 +49,9 @@ namespace wirefem::analysis
     double mirror_overlap(const std::vector<Vec2> &p, const Vec2 &inlet, const Vec2 &centre, const double d)
     {
       const Vec2 line = centre - inlet;
-      if (p.empty() || norm(line) == 0.0)
+      const bool finite = std::all_of(p.begin(), p.end(),
+                                      [](const Vec2 &q) { return std::isfinite(q.x) && std::isfinite(q.y); });
+      if (p.empty() || norm(line) == 0.0 || !finite)
         return 0.0;
       const Vec2 a = (1.0 / norm(line)) * line;
       double size = d;
@@ -177,9 +179,12 @@ namespace wirefem::analysis
     if (shaped && wire.channels.size() == 1)
       m.symmetry = mirror_overlap(p, wire.channels[0].inlet, centre, wire.diameter);
 
+    // (One channel: both halves followed from the inlet towards the free
+    // end, so that a coil wound from the channel turns the same way in both.)
     const int mid = n / 2;
+    const bool one_channel = shaped && wire.channels.size() == 1;
     m.winding_left = winding(p, 0, mid);
-    m.winding_right = winding(p, n - 1, mid);
+    m.winding_right = one_channel ? winding(p, mid, n - 1) : winding(p, n - 1, mid);
     const bool spiral = std::abs(m.winding_left) >= spiral_turns &&
                         std::abs(m.winding_right) >= spiral_turns && m.winding_left * m.winding_right > 0.0;
     m.phase = spiral ? "spiral" : (m.curvature_ratio < 0.5 ? "classic" : "plastic");

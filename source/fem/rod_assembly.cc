@@ -94,11 +94,17 @@ namespace wirefem::fem
         nodes.assign(cell_node[a / p].begin(), cell_node[a / p].end());
       return nodes;
     };
+    // One channel: the free tip presses the other segment of its pairs too.
+    const int tip = channels.pushes(Side::right) ? -1 : static_cast<int>(n_nodes) - 1;
     for (const auto &pr : pairs)
       {
         auto a_on_b = points_of(pr.i), b_on_a = points_of(pr.j);
         a_on_b.insert(a_on_b.end(), {pr.j, pr.j + 1});
         b_on_a.insert(b_on_a.end(), {pr.i, pr.i + 1});
+        if (pr.i + 1 == tip)
+          a_on_b.push_back(tip);
+        if (pr.j + 1 == tip)
+          b_on_a.push_back(tip);
         couple(a_on_b, 2);
         couple(b_on_a, 2);
       }
@@ -439,10 +445,17 @@ namespace wirefem::fem
         const auto allowed = [&](const int node, const int s) {
           return s >= first_segment && s <= last_segment && std::abs(s - node) > exclusion;
         };
+        // With one channel the wire's last node, its free tip, begins no
+        // segment: it presses the other segment of each pair that holds
+        // the last segment, as a third way.
+        const int tip = channels.pushes(Side::right) ? -1 : static_cast<int>(n_nodes) - 1;
         for (const auto &pr : broad.candidates())
-          for (const bool a_on_b : {true, false})
+          for (const int way : {0, 1, 2, 3})
             {
-              const int node = a_on_b ? pr.i : pr.j, seg = a_on_b ? pr.j : pr.i;
+              const bool a_on_b = way == 0 || way == 2;
+              if (way >= 2 && (a_on_b ? pr.i : pr.j) + 1 != tip)
+                continue;
+              const int node = (a_on_b ? pr.i : pr.j) + (way >= 2 ? 1 : 0), seg = a_on_b ? pr.j : pr.i;
               const std::array<Vec2, 3> x{{at(node), at(seg), at(seg + 1)}};
               const std::array<Vec2, 3> w0{{rq.velocity0(node), rq.velocity0(seg), rq.velocity0(seg + 1)}};
               double tc, fv;
@@ -462,10 +475,13 @@ namespace wirefem::fem
                                                contact::closest_on_segment(x[0], x[1], x[2]).distance2, at,
                                                [&](const int s) { return allowed(node, s); }))
                 continue;
+              // (The tip is the end, s = 1, of the last segment.)
+              const int own = way >= 2 ? node - 1 : node;
+              const double at_own = way >= 2 ? 1.0 : 0.0;
               if (a_on_b)
-                e.pairs.push_back({node, seg, 0.0, tc, cc.normal_force});
+                e.pairs.push_back({own, seg, at_own, tc, cc.normal_force});
               else
-                e.pairs.push_back({seg, node, tc, 0.0, cc.normal_force});
+                e.pairs.push_back({seg, own, tc, at_own, cc.normal_force});
             }
       }
   }

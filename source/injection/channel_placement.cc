@@ -161,10 +161,13 @@ namespace wirefem::injection
   double free_end_length(const geometry::Cavity &cavity, const ChannelMouth &channel)
   {
     // March along the axis from past the mouth in steps of d/4 until the
-    // point leaves the cavity, then bisect.
-    const double reach = 4.0 * std::sqrt(cavity.area() / M_PI);
+    // point leaves the cavity (no chord is longer than half the
+    // perimeter), then bisect.
+    const double reach = 0.5 * cavity.perimeter();
     const auto inside = [&](const double t) { return cavity.contains(channel.inlet + t * channel.axis); };
     double lo = std::max(channel.corner_depth[0], channel.corner_depth[1]) + 0.5, hi = lo;
+    if (!inside(lo))
+      throw std::invalid_argument("the channel's axis leaves the cavity within d/2 of its mouth");
     while (inside(hi) && hi < reach)
       {
         lo = hi;

@@ -92,10 +92,20 @@ namespace wirefem::scene
     /// and of the mouths' corners, and its packing density below the
     /// largest.
     void check_initial_wire(const geometry::Cavity &wall, const std::vector<injection::ChannelMouth> &mouths,
-                            const InjectionParameters &in, const std::string &w)
+                            const InjectionParameters &in, const double unit, const std::string &w)
     {
       const injection::ChannelledWall walled(wall, mouths);
-      const auto curve = injection::initial_curve(walled, 0.0);
+      // One channel's stub as the model rounds it.
+      const auto curve = [&] {
+        try
+          {
+            return injection::initial_curve(walled, unit);
+          }
+        catch (const std::invalid_argument &e)
+          {
+            throw InputError(w + ": Injection/Channel positions: " + e.what());
+          }
+      }();
       const auto shape =
           injection::initial_shape(in.seed, in.perturbation, in.mirror_asymmetry, curve, mouths.size());
       // (Beside an oblique mouth the channel's axis passes within a few
@@ -105,7 +115,8 @@ namespace wirefem::scene
         {
           const auto q = curve.perturbed(curve.length() * k / 400.0, shape);
           injection::WallTouch touch;
-          check(!walled.touch(q, 0.5, touch) || touch.overlap <= 0.02, w, "Injection/Channel positions",
+          const bool overlaps = walled.touch(q, 0.5, touch) && touch.overlap > 0.02;
+          check(!overlaps, w, "Injection/Channel positions",
                 fmt::format("the initial wire would overlap the wall by {:.2g} d near ({:.3g}, {:.3g})",
                             touch.overlap, q.x, q.y));
         }
@@ -146,7 +157,13 @@ namespace wirefem::scene
             " (the wall curves away from the channel there: a smaller angle, or a flatter place)");
       }
     check_mouths(wall, mouths, w);
-    check_initial_wire(wall, mouths, in, w);
+    const bool fem = s.model == ModelType::fem;
+    check_initial_wire(wall, mouths, in, fem ? s.fem.element_length : s.discrete.segment_length, w);
+    // Contact along the element checks points inside the elements only;
+    // with one channel the wire's tip, a node, must meet wire and wall.
+    check(p.size() == 2 || !fem || s.fem.contact_points == 0, w, "FEM/Contact points",
+          "one channel (Injection/Channel positions) leaves the wire's tip free, which contact along the "
+          "element does not reach: use 0 (node to segment)");
   }
 
   void ContactParameters::resolve()
@@ -181,8 +198,11 @@ namespace wirefem::scene
               "must be at least what the ramp injects, Slow start speed * Ramp time / 2");
       }
     // The initial wire: straight across (2 r), or the S between tangential
-    // inlets (pi (r - d/2)).
-    const double l0 = tangential_channels ? M_PI * (radius - 0.5) : 2.0 * radius;
+    // inlets (pi (r - d/2)); one channel's stub is checked with the wall
+    // (validate_wall).
+    const double l0 = tangential_channels             ? M_PI * (radius - 0.5)
+                      : channel_positions.size() == 1 ? 0.0
+                                                      : 2.0 * radius;
     const double phi0 = l0 / (M_PI * radius * radius);
     check(maximum_packing_density > phi0, w, "Injection/Maximum packing density",
           "must exceed the initial packing density " + std::to_string(phi0));
