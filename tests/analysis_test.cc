@@ -466,8 +466,9 @@ namespace
 
   TEST(Morphology, OneChannelsCoilIsASpiral)
   {
-    // A coil wound from the channel at (-r, 0), three turns inwards: both
-    // halves, followed from the inlet to the free end, turn the same way.
+    // A coil wound from the channel at (-r, 0), three turns inwards to the
+    // free end: each half, followed from its end, turns 1.5 times, the
+    // halves opposite ways.
     const double r = 10.0;
     auto w = one_channel_circle(r);
     for (int k = 0; k <= 300; ++k)
@@ -478,8 +479,23 @@ namespace
     w.curvature.assign(w.points.size(), 0.0);
     const auto m = analysis::classify(w);
     EXPECT_NEAR(m.winding_left, 1.5, 0.01); // counter-clockwise
-    EXPECT_NEAR(m.winding_right, 1.5, 0.01);
+    EXPECT_NEAR(m.winding_right, -1.5, 0.01);
     EXPECT_EQ(m.phase, "spiral");
+    // Folded: the same coil inwards for half the wire, then back out
+    // between its turns to the free end at the wall: a double spiral.
+    const auto coil = w.points;
+    w.points.assign(coil.begin(), coil.begin() + 151);
+    for (int k = 149; k >= 0; --k)
+      w.points.push_back(0.95 * coil[k]);
+    w.curvature.assign(w.points.size(), 0.0);
+    const auto folded = analysis::classify(w);
+    EXPECT_GT(folded.winding_left, 0.75);
+    EXPECT_GT(folded.winding_right, 0.75);
+    EXPECT_EQ(folded.phase, "spiral");
+    // Two channels ask for the same sense: the coil is not a spiral there.
+    w.points = coil;
+    w.channels.push_back({{r, 0.0}, {-1.0, 0.0}});
+    EXPECT_NE(analysis::classify(w).phase, "spiral");
   }
 
   TEST(Morphology, SpiralWhenBothHalvesWindTheSameWay)

@@ -179,14 +179,18 @@ namespace wirefem::analysis
     if (shaped && wire.channels.size() == 1)
       m.symmetry = mirror_overlap(p, wire.channels[0].inlet, centre, wire.diameter);
 
-    // (One channel: both halves followed from the inlet towards the free
-    // end, so that a coil wound from the channel turns the same way in both.)
+    // One channel: both halves coiled, in either sense. Folded with the
+    // free end at the wall, the wire is a double spiral as with two
+    // channels (the halves, each followed from its end, turn the same
+    // way); coiled from the wall inwards to the free end, it turns one way
+    // along its whole length (the halves, so followed, turn opposite ways).
     const int mid = n / 2;
     const bool one_channel = shaped && wire.channels.size() == 1;
     m.winding_left = winding(p, 0, mid);
-    m.winding_right = one_channel ? winding(p, mid, n - 1) : winding(p, n - 1, mid);
+    m.winding_right = winding(p, n - 1, mid);
     const bool spiral = std::abs(m.winding_left) >= spiral_turns &&
-                        std::abs(m.winding_right) >= spiral_turns && m.winding_left * m.winding_right > 0.0;
+                        std::abs(m.winding_right) >= spiral_turns &&
+                        (one_channel || m.winding_left * m.winding_right > 0.0);
     m.phase = spiral ? "spiral" : (m.curvature_ratio < 0.5 ? "classic" : "plastic");
     return m;
   }

@@ -257,8 +257,8 @@ namespace wirefem::geometry
     g.origin = lo - Vec2{g.cell, g.cell};
     g.nx = static_cast<int>(std::ceil((hi.x - lo.x) / g.cell)) + 2;
     g.ny = static_cast<int>(std::ceil((hi.y - lo.y) / g.cell)) + 2;
-    // Each piece's box (an arc's: its circle's), grown by a cell, marks the
-    // cells it meets; pieces in order, so each cell lists them in order.
+    // Each piece's box (an arc's: its circle's), grown by a cell, bounds the
+    // cells it may list in; pieces in order, so each cell lists them in order.
     std::vector<std::vector<int>> lists(static_cast<std::size_t>(g.nx) * g.ny);
     for (std::size_t k = 0; k < pieces.size(); ++k)
       {
@@ -274,9 +274,17 @@ namespace wirefem::geometry
         const int j0 = std::max(0, static_cast<int>(std::floor(a.y / g.cell)));
         const int i1 = std::min(g.nx - 1, static_cast<int>(std::floor(b.x / g.cell)));
         const int j1 = std::min(g.ny - 1, static_cast<int>(std::floor(b.y / g.cell)));
+        // Of those, the cells whose centre is within a cell and half the
+        // cell's diagonal of the piece: any point of the cell within a cell
+        // of the piece is (a long slanted edge's box would list far more).
+        const double reach = g.cell * (1.0 + 0.5 * std::sqrt(2.0));
         for (int j = j0; j <= j1; ++j)
           for (int i = i0; i <= i1; ++i)
-            lists[static_cast<std::size_t>(j) * g.nx + i].push_back(static_cast<int>(k));
+            {
+              const Vec2 centre = g.origin + Vec2{(i + 0.5) * g.cell, (j + 0.5) * g.cell};
+              if (norm(centre - nearest_on_piece(c, centre)) <= reach)
+                lists[static_cast<std::size_t>(j) * g.nx + i].push_back(static_cast<int>(k));
+            }
       }
     g.cell_start.assign(lists.size() + 1, 0);
     g.inside.assign(lists.size(), 0);

@@ -9,10 +9,10 @@
 // inside). Where two pieces of the wall are equally near (a point on the
 // medial axis, deeper in the cavity than the smallest corner radius), the
 // first piece in the wall's order is taken. A polygon finds the pieces near
-// a point through a grid of square cells, each listing the pieces within one
-// cell size of it (the pieces' boxes grown by that size); a point no listed
-// piece comes that near to falls back to all pieces, so the result is the
-// same as a search of all of them.
+// a point through a grid of square cells, each listing the pieces that may
+// come within one cell size of any of its points (judged by the distance
+// from its centre); a point no listed piece comes that near to falls back
+// to all pieces, so the result is the same as a search of all of them.
 #pragma once
 
 #include <wirefem/core/vec2.h>
