@@ -1,4 +1,5 @@
 #include <wirefem/analysis/observables.h>
+#include <wirefem/contact/segment_distance.h>
 
 #include <algorithm>
 #include <cmath>
@@ -31,15 +32,6 @@ namespace wirefem::analysis
       return sweep / (2.0 * M_PI);
     }
 
-    /// Distance of q from the segment [a, b].
-    double segment_distance(const Vec2 &a, const Vec2 &b, const Vec2 &q)
-    {
-      const Vec2 ab = b - a;
-      const double l2 = dot(ab, ab);
-      const double t = l2 > 0.0 ? std::clamp(dot(q - a, ab) / l2, 0.0, 1.0) : 0.0;
-      return norm(a + t * ab - q);
-    }
-
     /// One channel: the fraction of the wire's points whose mirror image
     /// about the line through the inlet and `centre` lies within d/4 of the
     /// wire's centreline (its nodes in a grid of cells as long as its
@@ -70,6 +62,10 @@ namespace wirefem::analysis
           const auto [i, j] = cell(p[k]);
           grid.emplace(key(i, j), k);
         }
+      const double reach2 = 0.0625 * d * d; // (d/4)^2
+      const auto within = [&](const int a, const Vec2 &q) {
+        return contact::closest_on_segment(q, p[a], p[a + 1]).distance2 < reach2;
+      };
       int matched = 0;
       for (const auto &q : p)
         {
@@ -84,9 +80,8 @@ namespace wirefem::analysis
                 for (auto it = range.first; it != range.second && !near; ++it)
                   {
                     const int k = it->second;
-                    near = (k + 1 < static_cast<int>(p.size()) &&
-                            segment_distance(p[k], p[k + 1], m) < 0.25 * d) ||
-                           (k > 0 && segment_distance(p[k - 1], p[k], m) < 0.25 * d);
+                    near =
+                        (k + 1 < static_cast<int>(p.size()) && within(k, m)) || (k > 0 && within(k - 1, m));
                   }
               }
           matched += near;
@@ -175,8 +170,9 @@ namespace wirefem::analysis
         const Vec2 mirrored = shaped ? l - (2.0 * dot(l - middle, axis)) * axis : Vec2{-l.x, l.y};
         dev += norm(mirrored - r);
       }
+    const bool one_channel = shaped && wire.channels.size() == 1;
     m.symmetry = std::clamp(1.0 - dev / (half * wire.cavity_radius), 0.0, 1.0);
-    if (shaped && wire.channels.size() == 1)
+    if (one_channel)
       m.symmetry = mirror_overlap(p, wire.channels[0].inlet, centre, wire.diameter);
 
     // One channel: both halves coiled, in either sense. Folded with the
@@ -185,7 +181,6 @@ namespace wirefem::analysis
     // way); coiled from the wall inwards to the free end, it turns one way
     // along its whole length (the halves, so followed, turn opposite ways).
     const int mid = n / 2;
-    const bool one_channel = shaped && wire.channels.size() == 1;
     m.winding_left = winding(p, 0, mid);
     m.winding_right = winding(p, n - 1, mid);
     const bool spiral = std::abs(m.winding_left) >= spiral_turns &&
