@@ -147,7 +147,7 @@ namespace wirefem::fem
     e.state.assign(qp.size(), PointState{});
     e.node_contact_force.assign(n_nodes, 0.0);
     e.pairs.clear();
-    e.axial = e.shear = e.bending = e.contact = e.plastic = e.max_overlap = 0;
+    e.axial = e.shear = e.bending = e.contact = e.plastic = e.max_overlap = e.friction_damping = 0;
     e.push_force = e.friction_stored = 0;
     e.wall_history.clear();
     e.n_wall = 0;
@@ -330,6 +330,9 @@ namespace wirefem::fem
             {
               add_contact(rq, cc, {k}, e);
               e.node_contact_force[k] += cc.normal_force;
+              if (!spring)
+                e.friction_damping =
+                    std::max(e.friction_damping, friction_damping(wall_settings, cc.normal_force));
               ++e.n_wall;
             }
       }
@@ -466,6 +469,8 @@ namespace wirefem::fem
               if (!touch)
                 continue;
               add_contact(rq, cc, {node, seg, seg + 1}, e);
+              e.friction_damping =
+                  std::max(e.friction_damping, friction_damping(self_settings, cc.normal_force));
               e.node_contact_force[node] += cc.normal_force - fv;
               e.node_contact_force[seg] += (1.0 - tc) * cc.normal_force;
               e.node_contact_force[seg + 1] += tc * cc.normal_force - fv;

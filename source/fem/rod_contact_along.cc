@@ -146,6 +146,9 @@ namespace wirefem::fem
           add_point_on_cell(rq, cc, cp.cell, cp.N, -1, e);
           for (std::size_t l = 0; l < nodes.size(); ++l)
             e.node_contact_force[nodes[l]] += cp.N[l] * cc.normal_force;
+          if (!spring)
+            e.friction_damping =
+                std::max(e.friction_damping, friction_damping(wall_settings, cc.normal_force));
           ++e.n_wall;
         }
   }
@@ -184,6 +187,8 @@ namespace wirefem::fem
               if (!touch)
                 continue;
               add_point_on_cell(rq, cc, cp.cell, cp.N, seg, e);
+              e.friction_damping =
+                  std::max(e.friction_damping, friction_damping(self_settings, cc.normal_force));
               for (std::size_t l = 0; l < nodes.size(); ++l)
                 e.node_contact_force[nodes[l]] += cp.N[l] * (cc.normal_force - fv);
               e.node_contact_force[seg] += (1.0 - tc) * cc.normal_force;

@@ -39,7 +39,7 @@ namespace wirefem::fem
                     impl->h, impl->dof_handler.n_dofs(), along, integrator);
     if (impl->clamped)
       return rod;
-    return fmt::format("{}, dt {} {:.4g}", rod, impl->explicit_mode ? "=" : "<=", impl->dt_max);
+    return fmt::format("{}, dt <= {:.4g}", rod, impl->dt_max);
   }
 
   void RodModel::step()

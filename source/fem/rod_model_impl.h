@@ -57,8 +57,8 @@ namespace wirefem::fem
       double s, t, fn;
     };
     std::vector<Pair> pairs;
-    double axial = 0, shear = 0, bending = 0, contact = 0, plastic = 0;
-    double max_overlap = 0;
+    double axial = 0, shear = 0, bending = 0, contact = 0, plastic = 0, max_overlap = 0;
+    double friction_damping = 0; ///< the largest friction_damping() under the regularised law
     int n_wall = 0;
     double push_force = 0;                              ///< capstan: axial force at the pushed end
     std::vector<contact::FrictionHistory> wall_history; ///< spring law: trial, per node

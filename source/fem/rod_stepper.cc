@@ -1,5 +1,7 @@
 #include "rod_model_impl.h"
 
+#include <limits>
+
 namespace wirefem::fem
 {
   double RodModel::Impl::kinetic_energy(const dealii::Vector<double> &vel, const int first,
@@ -50,7 +52,18 @@ namespace wirefem::fem
       if (static_cast<int>(i) < 3 * first_free || static_cast<int>(i) >= 3 * last_free)
         e.residual[i] += mass[i] * a1[i];
     history.assign(1, 0.0);
+    // The next step: short enough for the stiffest regularised friction,
+    // whose slope in the slip rate (friction_damping) damps the relative
+    // slip of two of the lightest nodes at a rate of 2 damping / mass.
+    // Explicit in the rate, a step of 2 / rate is unstable; at 1 / rate
+    // the friction brings the slip to rest and no further.
+    double lightest = std::numeric_limits<double>::infinity();
+    for (int i = 3 * first_free; i < 3 * last_free; ++i)
+      if (i % 3 != 2)
+        lightest = std::min(lightest, mass[i]);
+    const double friction_step = lightest / (2.0 * e.friction_damping);
     commit(step, first, last, u1, v1, a1, e, first_free, last_free);
+    dt = std::min(dt_max, friction_step);
   }
 
   void RodModel::Impl::predict(const double step, const int first, const int last, StepState &x) const

@@ -26,6 +26,7 @@
 #include <wirefem/core/vec2.h>
 #include <wirefem/injection/channel_placement.h>
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <vector>
@@ -64,6 +65,14 @@ namespace wirefem::fem
   /// The friction coefficient the regularised law mobilises when sliding at
   /// speed v: mu(v) tanh(v / v_th), from the law the contacts use.
   double sliding_coefficient(const ContactSettings &s, double v);
+
+  /// The regularised law's friction damping at rest, mu_st F_n / v_th: the
+  /// slope of the friction force in the slip rate. An explicit step longer
+  /// than (mass / damping) lets the friction of a contact overshoot.
+  inline double friction_damping(const ContactSettings &s, const double fn)
+  {
+    return s.mu_static * fn / std::max(s.threshold_velocity, 1e-9);
+  }
 
   /// Wall of the cavity: a circle of radius r, open over |y| < d/2 at x = +-r
   /// (the radial channels), where the corners of the openings are the
