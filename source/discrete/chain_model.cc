@@ -94,14 +94,9 @@ namespace wirefem::discrete
     // them; between there and the mouth the channel walls guide it
     // (ChannelTerm), which lets each node go gradually as it leaves.
     hold = std::max(2.0 * lambda0, 2.0 * diameter);
-    // A tangential channel runs beside the wall: wire in the cavity comes
-    // within d of its axis up to sqrt(2 r' d) behind the inlet. The channel
-    // holds wire (guided by its walls) further back than that, so that no
-    // node enters where wire in the cavity already is.
-    if (channels.is_tangential())
-      hold += std::sqrt(2.0 * channels.inlet(Side::right).x * diameter) + diameter;
-    // An oblique channel's mouth reaches d tan(angle) further along it.
-    hold += diameter * std::tan(scene.injection.channel_angle * M_PI / 180.0);
+    // Further back beside a tangential inlet or an oblique mouth.
+    hold += injection::hold_beyond_mouth(channels.is_tangential(), channels.inlet(Side::right).x, diameter,
+                                         scene.injection.channel_angle);
     // (Storage is laid out for both ends; one channel feeds all from the left.)
     const int extra = static_cast<int>(std::ceil(std::max(0.0, max_length - channels.initial_length()) /
                                                  (channels.count() * lambda0))) +

@@ -111,26 +111,23 @@ namespace wirefem::fem
     hold = std::max(2.0 * h, 2.0 * diameter);
     // Tangential channels start from an S of two half circles between the
     // inlets, L0 = pi r' long (not rounded: the mesh need not end at the
-    // inlets). As in the discrete model, such a channel holds its wire
-    // sqrt(2 r' d) + d further back: wire in the cavity comes within d of
-    // its axis up to sqrt(2 r' d) behind the inlet.
+    // inlets).
+    const double r_inlet = radius - 0.5 * diameter;
     if (s.injection.tangential_channels)
-      {
-        const double r_inlet = radius - 0.5 * diameter;
-        channels.make_tangential(r_inlet, M_PI * r_inlet);
-        hold += std::sqrt(2.0 * r_inlet * diameter) + diameter;
-      }
+      channels.make_tangential(r_inlet, M_PI * r_inlet);
     else if (scene::general_wall(s.cavity, s.injection))
       {
         // Any cavity, channels anywhere: the initial wire is the curve
-        // between the inlets (not rounded), and an oblique mouth reaches
-        // d tan(angle) further along its channel. One channel's stub is
-        // whole elements long, so that the mesh ends at its free end.
+        // between the inlets (not rounded). One channel's stub is whole
+        // elements long, so that the mesh ends at its free end.
         wall_settings.shaped = scene::channelled_wall(s.cavity, s.injection);
         const auto curve = injection::initial_curve(*wall_settings.shaped, h);
         channels.place(wall_settings.shaped->mouths, curve.length(), curve.turning());
-        hold += diameter * std::tan(s.injection.channel_angle * M_PI / 180.0);
       }
+    // As in the discrete model: further back beside a tangential inlet or
+    // an oblique mouth.
+    hold += injection::hold_beyond_mouth(s.injection.tangential_channels, r_inlet, diameter,
+                                         s.injection.channel_angle);
     const double L0 = channels.initial_length();
     k_channel = s.contact.normal_stiffness / diameter;
     const unsigned int n_pushing = static_cast<unsigned int>(channels.count());

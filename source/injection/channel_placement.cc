@@ -158,6 +158,13 @@ namespace wirefem::injection
     return sum;
   }
 
+  double hold_beyond_mouth(const bool tangential, const double r_inlet, const double diameter,
+                           const double angle)
+  {
+    return (tangential ? std::sqrt(2.0 * r_inlet * diameter) + diameter : 0.0) +
+           diameter * std::tan(angle * M_PI / 180.0);
+  }
+
   double free_end_length(const geometry::Cavity &cavity, const ChannelMouth &channel)
   {
     // March along the axis from past the mouth in steps of d/4 until the

@@ -131,6 +131,14 @@ namespace wirefem::injection
   /// model's element or segment length; 0 leaves it as it is).
   InitialCurve initial_curve(const ChannelledWall &wall, double unit);
 
+  /// How much deeper in its channel, beyond the models' common margin, a
+  /// channel must hold the wire (d units) so that no node leaves it where
+  /// wire in the cavity already is: beside a tangential inlet at radius
+  /// r_inlet that wire comes within d of the axis up to sqrt(2 r_inlet d)
+  /// behind the inlet (plus d), and an oblique mouth (angle in degrees)
+  /// reaches d tan(angle) further along its channel.
+  double hold_beyond_mouth(bool tangential, double r_inlet, double diameter, double angle);
+
   /// The seeded perturbation (injection/inlet.h) across that curve: over its
   /// length between two channels; from one, over twice the stub's length,
   /// so that the stub's free end is where the first mode peaks.
