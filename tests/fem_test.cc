@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <random>
@@ -383,6 +384,12 @@ namespace
     return s;
   }
 
+  fem::ContactSettings fem_settings_without_friction(fem::ContactSettings s)
+  {
+    s.friction = false;
+    return s;
+  }
+
   // A wall contact at x: its tangent against central differences of its
   // residual and, without friction, its residual against those of its
   // energy (the force is the energy's gradient).
@@ -538,6 +545,83 @@ namespace
                   << i << j;
           }
       }
+  }
+
+  TEST(FemContact, SpringLawSelfFrictionIsTheDiscreteLawAndItsTangentTheDerivative)
+  {
+    // A node against a segment under the spring law: sticking, breaking
+    // free, sliding on, and against the segment's end (t clamped). The
+    // force on the node is contact::friction_update's for the same normal
+    // force and slip along the contact tangent, the segment's ends take the
+    // reaction in the shares 1 - t and t, and the tangent is the
+    // derivative of the residual (central differences).
+    const double dt = 0.1, ratio = 0.2, w = 0.7;
+    const auto s = settings(true);
+    struct Case
+    {
+      Vec2 node, step; // where the node is, and how far it moved in the step
+      contact::FrictionHistory old;
+      bool sliding;
+    };
+    const std::array<Vec2, 3> seg_move{{Vec2{}, Vec2{0.01, -0.02}, Vec2{0.03, 0.01}}};
+    for (const auto &c : {Case{{0.4, 0.85}, {1e-5, -3e-6}, {2e-5, false}, false},
+                          Case{{0.4, 0.85}, {1.5, -0.2}, {0.0, false}, true},
+                          Case{{0.4, 0.85}, {0.05, 0.01}, {-0.5, true}, true},
+                          Case{{1.3, 0.7}, {2e-4, 1e-4}, {1e-4, false}, false}})
+      {
+        const std::array<Vec2, 3> x{{c.node, Vec2{0.0, 0.0}, Vec2{1.0, 0.1}}};
+        std::array<Vec2, 3> x_old;
+        for (int m = 0; m < 3; ++m)
+          x_old[m] = x[m] - (m == 0 ? c.step : seg_move[m]);
+        fem::ContactContribution cc, cp, cm, normal;
+        fem::SpringFriction sf, tmp;
+        ASSERT_TRUE(fem::point_segment_spring_friction(s, w, ratio, x, x_old, dt, c.old, cc, sf));
+        EXPECT_EQ(sf.history.sliding, c.sliding);
+        // The normal force and the contact's geometry from the contact kernel.
+        double t;
+        ASSERT_TRUE(fem::point_segment_contact(fem_settings_without_friction(s), w, x,
+                                               {{Vec2{}, Vec2{}, Vec2{}}}, 0.0, normal, t));
+        EXPECT_NEAR(cc.normal_force, normal.normal_force, 1e-12);
+        const Vec2 q = x[1] + t * (x[2] - x[1]), n = (1.0 / norm(x[0] - q)) * (x[0] - q), tau{-n.y, n.x};
+        const Vec2 slip_vec = (x[0] - x_old[0]) - ((1.0 - t) * (x[1] - x_old[1]) + t * (x[2] - x_old[2]));
+        contact::FrictionCoefficients fc{0.6, 0.4, 0.01, ratio * 2000.0 * w};
+        const auto law =
+            contact::friction_update(fc, normal.normal_force, dot(slip_vec, tau) / dt, dt, c.old);
+        EXPECT_NEAR(sf.history.elongation, law.history.elongation, 1e-12);
+        EXPECT_EQ(sf.history.sliding, law.history.sliding);
+        EXPECT_NEAR(sf.dissipated, law.dissipated, 1e-9);
+        EXPECT_NEAR(sf.stored,
+                    0.5 * fc.tangential_stiffness * law.history.elongation * law.history.elongation, 1e-9);
+        const double share[3] = {1.0, -(1.0 - t), -t};
+        for (int m = 0; m < 3; ++m)
+          for (int a = 0; a < 2; ++a)
+            {
+              const double expected = -share[m] * law.force * (a ? tau.y : tau.x);
+              EXPECT_NEAR(cc.residual[2 * m + a], expected, 1e-9 * std::abs(law.force) + 1e-12) << m << a;
+              EXPECT_EQ(cc.friction_residual[2 * m + a], cc.residual[2 * m + a]);
+            }
+        for (int j = 0; j < 6; ++j)
+          {
+            const double h = 1e-7;
+            auto xp = x, xm = x;
+            (j % 2 ? xp[j / 2].y : xp[j / 2].x) += h;
+            (j % 2 ? xm[j / 2].y : xm[j / 2].x) -= h;
+            ASSERT_TRUE(fem::point_segment_spring_friction(s, w, ratio, xp, x_old, dt, c.old, cp, tmp));
+            ASSERT_TRUE(fem::point_segment_spring_friction(s, w, ratio, xm, x_old, dt, c.old, cm, tmp));
+            double scale = 0.0;
+            for (int i = 0; i < 6; ++i)
+              scale = std::max(scale, std::abs(cc.tangent[i * 6 + j]));
+            for (int i = 0; i < 6; ++i)
+              EXPECT_NEAR((cp.residual[i] - cm.residual[i]) / (2 * h), cc.tangent[i * 6 + j],
+                          1e-5 * scale + 1e-6)
+                  << "row " << i << ", column " << j;
+          }
+      }
+    // Out of reach: no contribution.
+    fem::ContactContribution none;
+    fem::SpringFriction sf;
+    const std::array<Vec2, 3> far{{Vec2{0.4, 1.2}, Vec2{0.0, 0.0}, Vec2{1.0, 0.1}}};
+    EXPECT_FALSE(fem::point_segment_spring_friction(s, w, ratio, far, far, dt, {}, none, sf));
   }
 
   // A contact on N points: its residual is the gradient of its energy
@@ -1513,31 +1597,87 @@ namespace
     EXPECT_EQ(largest_distance(straight, resumed), 0.0);
   }
 
-  TEST(RodModel, WallSpringsAreInTheCheckpoint)
+  /// Friction springs are state: a run resumed from a checkpoint at L = 38
+  /// continues bit for bit to 45, and one that forgets them after loading
+  /// (`forget`) does not; `holds` says the checkpoint had springs to lose.
+  void expect_springs_in_checkpoint(const scene::Scene &s, const std::function<bool(fem::RodModel &)> &holds,
+                                    const std::function<void(fem::RodModel &)> &forget)
   {
-    // Under the spring law each wall contact's spring is state: a run
-    // resumed from a checkpoint continues bit for bit, and the same
-    // checkpoint with its springs zeroed after loading does not. The wire
-    // is elastic with mu_st = 5, so that some contacts stick.
-    const auto s = fem_scene({"Wire/Plasticity/Enabled=false", "Contact/Friction/Static coefficient=5",
-                              "FEM/Friction law=spring"});
     fem::RodModel straight(s), first(s), resumed(s), forgetful(s);
     checks::run_straight_and_resumed(straight, first, resumed, 38.0, 45.0);
-    const auto &springs = fem::RodModelProbe::wall_springs(first);
-    EXPECT_TRUE(std::any_of(springs.begin(), springs.end(), [](const auto &h) {
-      return h.elongation != 0.0 && !h.sliding;
-    })) << "no wall contact sticking at the checkpoint";
+    EXPECT_TRUE(holds(first)) << "no spring to lose at the checkpoint";
     EXPECT_EQ(straight.n_steps(), resumed.n_steps());
     EXPECT_EQ(straight.time(), resumed.time());
     EXPECT_EQ(largest_distance(straight, resumed), 0.0);
     std::stringstream buffer;
     first.save(buffer);
     forgetful.load(buffer);
-    for (auto &h : fem::RodModelProbe::wall_springs(forgetful))
-      h = contact::FrictionHistory{};
+    forget(forgetful);
     while (forgetful.injected_length() < 45.0)
       forgetful.step();
     EXPECT_GT(largest_distance(straight, forgetful), 1e-9);
+  }
+
+  TEST(RodModel, WallSpringsAreInTheCheckpoint)
+  {
+    // Under the spring law each wall contact's spring is state: a run
+    // resumed from a checkpoint continues bit for bit, and the same
+    // checkpoint with its springs zeroed after loading does not. The wire
+    // is elastic with mu_st = 5, so that some contacts stick.
+    expect_springs_in_checkpoint(
+        fem_scene({"Wire/Plasticity/Enabled=false", "Contact/Friction/Static coefficient=5",
+                   "FEM/Friction law=spring"}),
+        [](fem::RodModel &first) {
+          const auto &springs = fem::RodModelProbe::wall_springs(first);
+          return std::any_of(springs.begin(), springs.end(),
+                             [](const auto &h) { return h.elongation != 0.0 && !h.sliding; });
+        },
+        [](fem::RodModel &forgetful) {
+          for (auto &h : fem::RodModelProbe::wall_springs(forgetful))
+            h = contact::FrictionHistory{};
+        });
+  }
+
+  TEST(RodModel, SelfSpringsAreInTheCheckpointAndTheirTangentIsTheDerivative)
+  {
+    // FEM/Self friction law = spring: some self contacts stick; the
+    // assembled tangent with their springs is the derivative of the
+    // residual; the springs are state, so a resumed run continues bit for
+    // bit and one that forgets them does not; the ledger closes with the
+    // springs' energy stored, not dissipated (at the shipped speed: at 1
+    // the step's error alone misses 1%, under either law).
+    const std::vector<std::string> keys{"Wire/Plasticity/Enabled=false",
+                                        "Contact/Friction/Static coefficient=5",
+                                        "FEM/Self friction law=spring"};
+    const auto s = fem_scene(keys);
+    auto slow_keys = keys;
+    slow_keys.push_back("Injection/Speed=0.3");
+    fem::RodModel probed(fem_scene(slow_keys));
+    int checked = 0;
+    while (probed.injected_length() < 45.0)
+      {
+        const bool sticking =
+            std::any_of(fem::RodModelProbe::self_springs(probed).all().begin(),
+                        fem::RodModelProbe::self_springs(probed).all().end(),
+                        [](const fem::PairSpring &p) { return p.sliding == 0 && p.elongation != 0.0; });
+        if (sticking && probed.n_steps() % 20 == 0)
+          {
+            const double err = fem::RodModelProbe::step_checking_tangent(probed);
+            EXPECT_GE(err, 0.0) << "the check did not run";
+            EXPECT_LT(err, 1e-6) << "at L = " << probed.injected_length();
+            ++checked;
+          }
+        else
+          probed.step();
+      }
+    EXPECT_GE(checked, 3) << "too few steps with a sticking self contact";
+    const auto &e = probed.energies();
+    EXPECT_GT(e.friction, 0.0);
+    EXPECT_LT(std::abs(e.balance_error()), 0.01) << "in " << e.initial + e.injection_work;
+
+    expect_springs_in_checkpoint(
+        s, [](fem::RodModel &first) { return !fem::RodModelProbe::self_springs(first).all().empty(); },
+        [](fem::RodModel &forgetful) { fem::RodModelProbe::self_springs(forgetful).commit({}); });
   }
 
   TEST(RodModel, SpringLawBooksTheWallSpringsEnergy)

@@ -159,6 +159,9 @@ namespace wirefem::fem
     {
       return rod.impl->wall_springs;
     }
+    /// The self contacts' springs of FEM/Self friction law = spring, writable
+    /// as the wall's.
+    static PairSprings &self_springs(RodModel &rod) { return rod.impl->self_springs; }
     /// Quasi-static injection: snaps handed to dynamics, and whether the
     /// model is in such a dynamic phase now.
     static unsigned long snaps(const RodModel &rod) { return rod.impl->snaps; }

@@ -144,6 +144,12 @@ namespace
              {{"Model=fem", "FEM/Newton=modified", "FEM/Linear solver=kept factors"},
               "FEM/Newton",
               "needs FEM/Linear solver = refactorise"},
+             {{"Model=fem", "FEM/Self friction law=spring", "FEM/Integrator=explicit"},
+              "FEM/Self friction law",
+              "needs an implicit integrator"},
+             {{"Model=fem", "FEM/Self friction law=spring", "FEM/Contact points=2"},
+              "FEM/Self friction law",
+              "needs FEM/Contact points = 0"},
          })
       {
         const auto msg = error_of(f, c.overrides);

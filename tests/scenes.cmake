@@ -226,6 +226,15 @@ foreach(scene_f classic:15 plastic:15 classic:25)
                    -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
   set_tests_properties(scene.fem_${scene}_f${f}_jams PROPERTIES LABELS stress TIMEOUT 3600)
 endforeach()
+# The chain's friction law between wires too (FEM/Self friction law =
+# spring): the classic scene at f = 15 jams (seeds 1-3: phi 0.554-0.574,
+# 27 loops; 0.4-1 min).
+add_test(NAME scene.fem_classic_f15_self_springs_jams
+         COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
+                 -DSETTING=Cavity/Radius=15 -DMODEL=Model=fem "-DEXTRA=FEM/Self friction law=spring"
+                 -DJAMMED=ON -DMIN_PHI=0.5 -DOUT=${SCENE_OUT}/fem_classic_f15_self_springs
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+set_tests_properties(scene.fem_classic_f15_self_springs_jams PROPERTIES LABELS stress TIMEOUT 1800)
 # The quasi-static FEM on the classic scene jams with its ledger closed to
 # 1% (an open ledger exits 3): at f = 15 (about 20 s, in the default run)
 # and f = 25 (3-4 min, phi 0.409-0.415 over seeds 1-3).

@@ -178,6 +178,29 @@ namespace wirefem::fem
     return true;
   }
 
+  double spring_step(const ContactSettings &s, const double kt, const double fn, const double slip,
+                     const double dt, const contact::FrictionHistory &old, SpringFriction &friction)
+  {
+    friction = SpringFriction{};
+    const double limit = (old.sliding ? s.mu_dynamic : s.mu_static) * fn;
+    const double trial = old.elongation + slip;
+    double ft = -kt * trial, slide = 0.0;
+    friction.history.elongation = trial;
+    if (std::abs(ft) > limit)
+      {
+        slide = (ft > 0.0 ? 1.0 : -1.0) * s.mu_dynamic;
+        ft = slide * fn;
+        friction.history.elongation = -ft / kt;
+        friction.history.sliding = std::abs(slip) >= s.threshold_velocity * dt;
+      }
+    friction.dissipated =
+        0.5 * (kt * old.elongation - ft) * slip -
+        0.5 * kt *
+            (friction.history.elongation * friction.history.elongation - old.elongation * old.elongation);
+    friction.stored = 0.5 * kt * friction.history.elongation * friction.history.elongation;
+    return slide;
+  }
+
   bool wall_contact_spring(const double radius, const ContactSettings &s, const double weight,
                            const double stiffness_ratio, const Vec2 &x, const Vec2 &x_old, const double dt,
                            const contact::FrictionHistory &old, ContactContribution &out,
@@ -198,24 +221,8 @@ namespace wirefem::fem
         // (sliding means: slid at v_th or faster over the last step), so
         // within Newton's iterations the law is a fixed return map with one
         // kink.
-        const double limit = (old.sliding ? s.mu_dynamic : s.mu_static) * w.fn.val();
-        const Fad trial = old.elongation + slip;
-        Fad ft = -kt * trial;
-        friction.history.elongation = trial.val();
-        friction.history.sliding = false;
-        if (std::abs(ft.val()) > limit)
-          {
-            ft = (ft.val() > 0.0 ? 1.0 : -1.0) * s.mu_dynamic * w.fn;
-            friction.history.elongation = -ft.val() / kt;
-            friction.history.sliding = std::abs(slip.val()) >= s.threshold_velocity * dt;
-          }
-        // As contact::friction_update: the trapezoidal work of the friction
-        // force less what the spring stores.
-        friction.dissipated =
-            0.5 * (kt * old.elongation - ft.val()) * slip.val() -
-            0.5 * kt *
-                (friction.history.elongation * friction.history.elongation - old.elongation * old.elongation);
-        friction.stored = 0.5 * kt * friction.history.elongation * friction.history.elongation;
+        const double slide = spring_step(s, kt, w.fn.val(), slip.val(), dt, old, friction);
+        const Fad ft = slide == 0.0 ? Fad(-kt * (old.elongation + slip)) : Fad(slide * w.fn);
         rf[0] = -ft * tx;
         rf[1] = -ft * ty;
       }

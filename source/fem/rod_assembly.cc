@@ -150,6 +150,7 @@ namespace wirefem::fem
     e.axial = e.shear = e.bending = e.contact = e.plastic = e.max_overlap = e.friction_damping = 0;
     e.push_force = e.friction_stored = 0;
     e.wall_history.clear();
+    e.self_history.clear();
     e.n_wall = 0;
     if (rq.want_tangent)
       {
@@ -355,6 +356,25 @@ namespace wirefem::fem
     return touching;
   }
 
+  void RodModel::Impl::self_spring_friction(const AssemblyRequest &rq, const int node, const int seg,
+                                            Evaluation &e)
+  {
+    // The spring of the last accepted step (or the one the node had on a
+    // neighbouring segment), elongated by the slip since that step; the
+    // trial is kept in e.
+    const std::array<Vec2, 3> x{{position(*rq.u, node), position(*rq.u, seg), position(*rq.u, seg + 1)}};
+    const std::array<Vec2, 3> x_old{{position(u, node), position(u, seg), position(u, seg + 1)}};
+    ContactContribution fc;
+    SpringFriction sf;
+    if (!point_segment_spring_friction(
+            self_settings, 0.5 * node_weight(node), scene.contact.friction.tangential_stiffness_ratio, x,
+            x_old, rq.friction_step(), self_springs.find(node, seg), fc, sf, rq.friction_scale()))
+      return;
+    add_contact(rq, fc, {node, seg, seg + 1}, e);
+    e.self_history.push_back({node, seg, sf.history.elongation, sf.history.sliding ? 1 : 0});
+    e.friction_stored += sf.stored;
+  }
+
   void RodModel::Impl::assemble_channel_walls(const AssemblyRequest &rq, Evaluation &e)
   {
     const auto &u1 = *rq.u;
@@ -452,6 +472,12 @@ namespace wirefem::fem
         // segment: it presses the other segment of each pair that holds
         // the last segment, as a third way.
         const int tip = channels.pushes(Side::right) ? -1 : static_cast<int>(n_nodes) - 1;
+        // The spring law (FEM/Self friction law): the pairs press without
+        // friction; each node's friction acts once per stretch, on the
+        // stretch's nearest segment, as in the discrete model.
+        const bool spring = self_spring && rq.step > 0.0;
+        ContactSettings pressing = self_settings;
+        pressing.friction = pressing.friction && !spring;
         for (const auto &pr : broad.candidates())
           for (const int way : {0, 1, 2, 3})
             {
@@ -463,14 +489,15 @@ namespace wirefem::fem
               const std::array<Vec2, 3> w0{{rq.velocity0(node), rq.velocity0(seg), rq.velocity0(seg + 1)}};
               double tc, fv;
               const bool touch =
-                  point_stretch_contact(self_settings, 0.5 * node_weight(node), x, w0, rq.friction_c_vel(),
+                  point_stretch_contact(pressing, 0.5 * node_weight(node), x, w0, rq.friction_c_vel(),
                                         allowed(node, seg + 1), cc, tc, fv, fs);
               e.max_overlap = std::max(e.max_overlap, cc.overlap);
               if (!touch)
                 continue;
               add_contact(rq, cc, {node, seg, seg + 1}, e);
-              e.friction_damping =
-                  std::max(e.friction_damping, friction_damping(self_settings, cc.normal_force));
+              if (!spring)
+                e.friction_damping =
+                    std::max(e.friction_damping, friction_damping(self_settings, cc.normal_force));
               e.node_contact_force[node] += cc.normal_force - fv;
               e.node_contact_force[seg] += (1.0 - tc) * cc.normal_force;
               e.node_contact_force[seg + 1] += tc * cc.normal_force - fv;
@@ -480,6 +507,8 @@ namespace wirefem::fem
                                                contact::closest_on_segment(x[0], x[1], x[2]).distance2, at,
                                                [&](const int s) { return allowed(node, s); }))
                 continue;
+              if (spring)
+                self_spring_friction(rq, node, seg, e);
               // (The tip is the end, s = 1, of the last segment.)
               const int own = way >= 2 ? node - 1 : node;
               const double at_own = way >= 2 ? 1.0 : 0.0;

@@ -4,7 +4,7 @@ namespace wirefem::fem
 {
   namespace
   {
-    constexpr std::uint64_t fem_magic = 0x77666d66656d3035ull; // "wfmfem05"
+    constexpr std::uint64_t fem_magic = 0x77666d66656d3036ull; // "wfmfem06"
     // Written byte for byte into the checkpoint: no padding.
     static_assert(sizeof(core::StepReport) == sizeof(double) + 2 * sizeof(int), "StepReport has padding");
 
@@ -340,6 +340,7 @@ namespace wirefem::fem
     core::write_vector(out, m.sp_pairs, 0, m.sp_pairs.size());
     core::write_vector(out, m.wall_springs, 0, m.wall_springs.size());
     core::write_vector(out, m.spring_from, 0, m.spring_from.size());
+    core::write_vector(out, m.self_springs.all(), 0, m.self_springs.all().size());
     for (const auto &w : m.window)
       {
         core::write_raw(out, w.injected);
@@ -398,6 +399,17 @@ namespace wirefem::fem
     for (const auto &x : m.spring_from)
       if (!std::isfinite(x.x) || !std::isfinite(x.y))
         throw std::runtime_error("checkpoint holds a non-finite wall spring");
+    // The self contacts' springs: a node against a segment of the mesh.
+    const auto n_self = core::peek_vector_size(in);
+    if (n_self > (m.self_spring ? std::size_t{m.n_nodes} * m.n_nodes : 0))
+      throw std::runtime_error("checkpoint does not fit this scene");
+    std::vector<PairSpring> self(n_self);
+    core::read_vector(in, self);
+    for (const auto &p : self)
+      if (p.node < 0 || p.node >= m.n_nodes || p.segment < 0 || p.segment + 1 >= m.n_nodes ||
+          !std::isfinite(p.elongation) || (p.sliding != 0 && p.sliding != 1))
+        throw std::runtime_error("checkpoint holds a self-contact spring that does not fit this scene");
+    m.self_springs.commit(std::move(self));
     for (auto &w : m.window)
       {
         w.injected = core::read_raw<double>(in);

@@ -9,6 +9,7 @@
 #include <wirefem/contact/segment_distance.h>
 #include <wirefem/fem/contact_element.h>
 #include <wirefem/fem/csr_matrix.h>
+#include <wirefem/fem/pair_springs.h>
 #include <wirefem/fem/rod_element.h>
 #include <wirefem/fem/rod_model.h>
 #include <wirefem/fem/sparse_direct.h>
@@ -62,6 +63,7 @@ namespace wirefem::fem
     int n_wall = 0;
     double push_force = 0;                              ///< capstan: axial force at the pushed end
     std::vector<contact::FrictionHistory> wall_history; ///< spring law: trial, per node
+    std::vector<PairSpring> self_history;               ///< spring law: trial, per pair
     double friction_stored = 0;                         ///< spring law: in the wall springs
   };
 
@@ -143,10 +145,11 @@ namespace wirefem::fem
     material::MomentCurvatureLaw law{1.0};
     bool plastic = false, viscous = false;
     ContactSettings wall_settings, self_settings;
-    /// Wall friction by the discrete model's spring law (FEM/Friction law =
-    /// spring): each node's wall spring at the last accepted step.
-    bool wall_spring = false;
+    /// Wall (and self) friction by the discrete model's spring law (FEM/Friction
+    /// law, FEM/Self friction law = spring): the springs of the last accepted step.
+    bool wall_spring = false, self_spring = false;
     std::vector<contact::FrictionHistory> wall_springs;
+    PairSprings self_springs;
     /// Where each node was when its wall spring was last committed: the
     /// start of the step for an implicit step, the start of the step
     /// before for an explicit one (whose forces are taken at the start).
@@ -167,8 +170,7 @@ namespace wirefem::fem
     void set_up_contact_points(unsigned int n_points);
     /// Kirchhoff: section angles of least elastic energy, positions held.
     void relax_section_angles();
-    double a_left = 0, a_right = 0; // material coordinates of the inlets at t = 0
-    double min_spacing = 0;
+    double a_left = 0, a_right = 0, min_spacing = 0; // a_*: material coordinates of the inlets at t = 0
 
     // Generalized-alpha.
     double alpha_m = 0, alpha_f = 0, beta = 0.25, gamma = 0.5;
@@ -176,14 +178,12 @@ namespace wirefem::fem
     /// Integrator = quasi-static on the injection set-up: steps by injected
     /// length, a stress-free start shape, friction on slip per step.
     bool quasi_static_injection = false;
-    /// Quasi-static injection hands a snap (a step Newton cannot take even
-    /// cut below FEM/Minimum time step) to generalized-alpha with
-    /// the injection paused, until the kinetic energy has fallen below
-    /// qs_calm of the stored one for qs_calm_steps steps in a row. A snap
-    /// that comes back where the last one was (within qs_again of injection,
-    /// the default longest step) is no instability but a point quasi-static Newton cannot
-    /// pass: that phase first injects qs_push of wire per channel at the
-    /// scene's speed, then pauses.
+    /// Quasi-static injection hands a snap (a step Newton cannot take even cut below
+    /// FEM/Minimum time step) to generalized-alpha with the injection paused, until the
+    /// kinetic energy has fallen below qs_calm of the stored one for qs_calm_steps steps in
+    /// a row. A snap that comes back where the last one was (within qs_again of injection,
+    /// the default longest step) is a point quasi-static Newton cannot pass: that phase
+    /// first injects qs_push of wire per channel at the scene's speed, then pauses.
     std::optional<double> pause_from; ///< time the injection was paused at, in a dynamic phase
     std::optional<double> push_to;    ///< wire per channel a pushing phase injects to
     double paused_total = 0.0;        ///< time spent paused before
@@ -353,14 +353,13 @@ namespace wirefem::fem
       ledger = c.ledger;
     }
 
-    /// Set-up = capstan (rod_capstan.cc): the rod on the wall's centreline
-    /// circle over the wrap angle, running clockwise from its trailing end
-    /// (node 0). The leading end carries a compressive follower force and
-    /// the moment that holds the wall's curvature. Velocity control pushes
-    /// the trailing end along the wall: its polar and section angles are
-    /// prescribed, its radius free (a roller: its (x, y) rotated to (radial,
-    /// tangential) and the tangential row and column eliminated) or held.
-    /// Force control pushes it by a follower force instead. Quasi-static.
+    /// Set-up = capstan (rod_capstan.cc): the rod on the wall's centreline circle over the
+    /// wrap angle, running clockwise from its trailing end (node 0). The leading end carries
+    /// a compressive follower force and the moment that holds the wall's curvature. Velocity
+    /// control pushes the trailing end along the wall: its polar and section angles are
+    /// prescribed, its radius free (a roller: its (x, y) rotated to (radial, tangential) and
+    /// the tangential row and column eliminated) or held. Force control pushes it by a
+    /// follower force instead. Quasi-static.
     bool capstan = false;
     struct CapstanLoading
     {
@@ -460,6 +459,7 @@ namespace wirefem::fem
     /// along the element) at position x standing for wire length `weight`.
     bool wall_spring_contact(const AssemblyRequest &rq, unsigned int i, const Vec2 &x, double weight,
                              ContactContribution &cc, Evaluation &e) const;
+    void self_spring_friction(const AssemblyRequest &rq, int node, int seg, Evaluation &e);
     /// FEM/Contact points > 0: the wall at the points of segments [first, last).
     void assemble_wall_along(const AssemblyRequest &rq, int first, int last, Evaluation &e);
     Vec2 point_position(const dealii::Vector<double> &x, const ContactPoint &cp) const;

@@ -262,6 +262,7 @@ namespace wirefem::fem
     self_settings.mu_static = fr.static_coefficient;
     self_settings.mu_dynamic = fr.dynamic_coefficient;
     self_settings.friction = con.self_contact && (keep || fr.static_coefficient > 0);
+    self_spring = s.fem.spring_self_friction && self_settings.friction;
     if (con.wall_contact)
       effects.push_back("wall contact");
     if (con.self_contact)

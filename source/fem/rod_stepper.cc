@@ -427,6 +427,7 @@ namespace wirefem::fem
         wall_springs = e.wall_history;
         note_spring_positions(explicit_mode ? u : u1);
       }
+    self_springs.commit(std::move(e.self_history)); // (none but under FEM/Self friction law = spring)
     u = u1;
     v = v1;
     a = a1;

@@ -97,6 +97,13 @@ namespace wirefem::scene
             "Contact/Friction/Surface torque", "is implemented for Model = discrete only");
       check(!s.fem.modified_newton || !s.fem.kept_factors, w, "FEM/Newton",
             "'modified' reuses LU factors in direct solves: it needs FEM/Linear solver = refactorise");
+      if (s.model == ModelType::fem && s.fem.spring_self_friction)
+        {
+          check(s.fem.integrator != Integrator::explicit_lumped, w, "FEM/Self friction law",
+                "'spring' needs an implicit integrator (FEM/Integrator = generalized-alpha or quasi-static)");
+          check(s.fem.contact_points == 0, w, "FEM/Self friction law",
+                "'spring' acts at the nodes: it needs FEM/Contact points = 0");
+        }
     }
 
     // Values that each pass their pattern but make no physical sense, alone

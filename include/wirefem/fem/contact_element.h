@@ -89,6 +89,16 @@ namespace wirefem::fem
     double stored = 0.0;              ///< in the spring after this step, 1/2 k_t u^2
   };
 
+  /// One step of the discrete model's friction law (contact/friction_law.h)
+  /// in displacements: a spring of stiffness kt from `old`, slipping by
+  /// `slip` under the normal force fn. The cap is mu_st fn, or mu_d fn when
+  /// `old` slides. Returns 0 while the spring holds, else the slide force's
+  /// coefficient (+-mu_d, with the force's sign); fills the history after
+  /// the step, the energy dissipated (the trapezoidal work of the force
+  /// less what the spring stores) and the energy stored.
+  double spring_step(const ContactSettings &s, double kt, double fn, double slip, double dt,
+                     const contact::FrictionHistory &old, SpringFriction &friction);
+
   /// The wall with the discrete model's friction law (contact/friction_law.h)
   /// instead of the regularised one: a tangential spring of stiffness
   /// ratio * k w, elongated by the tangential part of x - x_old, capped at
@@ -102,6 +112,21 @@ namespace wirefem::fem
                            const core::Vec2 &x, const core::Vec2 &x_old, double dt,
                            const contact::FrictionHistory &old, ContactContribution &out,
                            SpringFriction &friction, double friction_scale = 1.0);
+
+  /// The friction alone of point x[0] against the segment x[1]-x[2] (the
+  /// closest point q, clamped to the ends; normal force k w (d - |x0 - q|))
+  /// by the discrete model's law, as wall_contact_spring: a tangential
+  /// spring of stiffness ratio * k w, elongated by the slip of the step
+  /// tau . ((x0 - x0_old) - ((1 - t)(x1 - x1_old) + t (x2 - x2_old))),
+  /// tau the contact tangent at x, capped at mu_st F_n while sticking and
+  /// mu_d F_n while sliding. out holds only friction: its residual equals
+  /// its friction residual, and its tangent is friction_scale times the
+  /// residual's derivative. Returns false when the point does not touch.
+  bool point_segment_spring_friction(const ContactSettings &s, double weight, double stiffness_ratio,
+                                     const std::array<core::Vec2, 3> &x,
+                                     const std::array<core::Vec2, 3> &x_old, double dt,
+                                     const contact::FrictionHistory &old, ContactContribution &out,
+                                     SpringFriction &friction, double friction_scale = 1.0);
 
   /// Point x[0] against the segment x[1]-x[2] (the closest point of the
   /// segment, clamped to its ends). t: the segment parameter of the closest

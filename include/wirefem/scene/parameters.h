@@ -266,6 +266,7 @@ namespace wirefem::scene
     bool modified_newton = false;       ///< reuse a step's first LU while Newton contracts fast
     double newton_contraction = 0.1;    ///< modified Newton: largest residual ratio on kept factors
     bool spring_friction = true;        ///< wall friction by the discrete model's law (FEM/Friction law)
+    bool spring_self_friction = false;  ///< self friction by the discrete model's law (FEM/Self friction law)
     /// Contact (wall and self): 0, at the nodes; n > 0, at n Gauss points
     /// of each segment of the wire along its element.
     unsigned int contact_points = 0;
