@@ -56,6 +56,8 @@ REGULARISED = {"sets": ["FEM/Friction law=regularised"], "label": "fem, FEM/Fric
 SPRING = {"sets": ["FEM/Friction law=spring"], "label": "fem, FEM/Friction law = spring"}
 SLOW = {"sets": ["Injection/Speed=0.01"], "label": "discrete, Injection/Speed = 0.01"}
 QUASI_STATIC = {"sets": ["FEM/Integrator=quasi-static"], "label": "fem, FEM/Integrator = quasi-static"}
+SELF_SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring"],
+               "label": "fem, the chain's friction law at the wall and between wires"}
 STUDIES = {
     "fig5": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
     "elastic": {"scene": "elastic", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
@@ -74,6 +76,10 @@ STUDIES = {
     # 0.003, 0.506 +- 0.025 at 0.3).
     "fig5_slow": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 10), **SLOW},
     "elastic_slow": {"scene": "elastic", "model": "discrete", "radius": 25, "seeds": range(1, 10), **SLOW},
+    # The FEM with the chain's friction law between wires too.
+    "fig5_fem_self_spring": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **SELF_SPRING},
+    "elastic_fem_self_spring": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4),
+                                **SELF_SPRING},
     # The FEM's quasi-static limit itself: no inertia, steps by injected
     # length, snaps taken by dynamics with the injection paused.
     "fig5_fem_qs": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **QUASI_STATIC},
@@ -347,7 +353,9 @@ def report(outdir):
               "The FEM's rows come in two wall-friction laws: `FEM/Friction law = spring` (the chain's law, the "
               "FEM's default) and `regularised` (mu(v) tanh(v/v_th), its law before). With the elastic wire at "
               "mu_st 5 only the first agrees with the chain; why is in "
-              "`docs/notes/2026-12-05-fem-friction-law.md`.",
+              "`docs/notes/2026-12-05-fem-friction-law.md`. Between wires the FEM uses the regularised law "
+              "unless `FEM/Self friction law = spring`, the rows that name the chain's law between wires "
+              "(`docs/notes/2026-12-06-fem-self-friction.md`).",
               "",
               "The rows `fem, FEM/Integrator = quasi-static` are the FEM without inertia, stepping by injected "
               "length (`docs/notes/2026-12-05-quasi-static-injection.md`): the quasi-static limit itself. On the "
