@@ -6,6 +6,7 @@ import math
 import os
 import statistics
 import sys
+import textwrap
 
 import numpy as np
 from scipy.optimize import curve_fit
@@ -221,8 +222,8 @@ def plot(results, filename):
                         label=f"fit, {label}: beta {beta:.2f}, phi_c {phi_c:.3f}")
         ax.set_xlabel("phi")
         ax.set_ylabel("inlet force (mean over realizations)")
-        ax.set_title(SCENES[r["scene"]]["title"] + ("" if r["model"] == "discrete" else f", {r['model']}"),
-                     fontsize=9)
+        title = SCENES[r["scene"]]["title"] + ("" if r["model"] == "discrete" else f", {r['model']}")
+        ax.set_title(textwrap.fill(title, 70), fontsize=9)
         ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(filename, dpi=120)
