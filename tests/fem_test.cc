@@ -384,12 +384,6 @@ namespace
     return s;
   }
 
-  fem::ContactSettings fem_settings_without_friction(fem::ContactSettings s)
-  {
-    s.friction = false;
-    return s;
-  }
-
   // A wall contact at x: its tangent against central differences of its
   // residual and, without friction, its residual against those of its
   // energy (the force is the energy's gradient).
@@ -579,8 +573,8 @@ namespace
         EXPECT_EQ(sf.history.sliding, c.sliding);
         // The normal force and the contact's geometry from the contact kernel.
         double t;
-        ASSERT_TRUE(fem::point_segment_contact(fem_settings_without_friction(s), w, x,
-                                               {{Vec2{}, Vec2{}, Vec2{}}}, 0.0, normal, t));
+        ASSERT_TRUE(
+            fem::point_segment_contact(settings(false), w, x, {{Vec2{}, Vec2{}, Vec2{}}}, 0.0, normal, t));
         EXPECT_NEAR(cc.normal_force, normal.normal_force, 1e-12);
         const Vec2 q = x[1] + t * (x[2] - x[1]), n = (1.0 / norm(x[0] - q)) * (x[0] - q), tau{-n.y, n.x};
         const Vec2 slip_vec = (x[0] - x_old[0]) - ((1.0 - t) * (x[1] - x_old[1]) + t * (x[2] - x_old[2]));
