@@ -1431,14 +1431,15 @@ namespace
 
   TEST(RodModel, StepErrorEstimateIsThirdOrderInTheStep)
   {
-    // From one state of a run with wall contact and friction, one step of
-    // h, h/2 and h/4: the estimate h^2 |beta - 1/6| max |a_{n+1} - a_n| is
-    // the leading term of a local error of order 3 in h. (Step error 1e9:
-    // estimated, never acted on.)
-    const auto s = contact_scene("FEM/Step error=1e9");
+    // From the start of a run (a smooth state), one step of h, h/2, h/4
+    // and h/8: the estimate h^2 |beta - 1/6| max |a_{n+1} - a_n| is the
+    // leading term of a local error of order 3 in h. (Targets 1e9:
+    // estimated, never acted on. Later in a run with contacts the estimate
+    // is of order 2: contacts keep an alternating part in the
+    // accelerations, docs/notes/2026-12-06-step-energy-error.md.)
+    auto s = contact_scene("FEM/Step error=1e9");
+    s.fem.step_energy_error = 1e9;
     fem::RodModel m(s);
-    while (m.injected_length() < 12.0)
-      m.step();
     std::stringstream saved;
     m.save(saved);
     std::vector<double> estimate;
@@ -1451,7 +1452,7 @@ namespace
         fem::RodModelProbe::set_next_step(r, h);
         const double t0 = r.time();
         r.step();
-        ASSERT_EQ(r.time() - t0, h) << "the step was cut";
+        ASSERT_NEAR(r.time() - t0, h, 1e-12 * h) << "the step was cut";
         estimate.push_back(fem::RodModelProbe::error_estimate(r));
       }
     for (std::size_t i = 1; i < estimate.size(); ++i)
@@ -1460,6 +1461,70 @@ namespace
         std::cout << "estimate " << estimate[i] << " d, order " << order << "\n";
         EXPECT_NEAR(order, 3.0, 0.3);
       }
+  }
+
+  TEST(RodModel, StepEnergyEstimateOverTwoStepsFallsWithTheStep)
+  {
+    // From a state of a run with wall contact and friction (made with steps
+    // of 0.001), two steps of h: the ledger's imbalance over both, over
+    // their share of the energy in, falls as h does. (Over one step it need
+    // not: generalized-alpha's alternating part. Both targets 1e9:
+    // estimated, never acted on.)
+    auto s = contact_scene("FEM/Step error=1e9");
+    s.fem.step_energy_error = 1e9;
+    s.fem.time_step = 0.001;
+    fem::RodModel m(s);
+    while (m.injected_length() < 20.0)
+      m.step();
+    ASSERT_GT(m.report().n_wall_contacts, 0);
+    std::stringstream saved;
+    m.save(saved);
+    std::vector<double> two, one;
+    for (const double h : {0.016, 0.008, 0.004, 0.002, 0.001})
+      {
+        fem::RodModel r(s);
+        saved.clear();
+        saved.seekg(0);
+        r.load(saved);
+        fem::RodModelProbe::set_next_step(r, h);
+        r.step();
+        one.push_back(fem::RodModelProbe::energy_estimate(r));
+        fem::RodModelProbe::set_next_step(r, h);
+        r.step();
+        two.push_back(fem::RodModelProbe::energy_estimate(r));
+        std::cout << "h " << h << ": energy estimate over one step " << one.back() << ", over two "
+                  << two.back() << "\n";
+      }
+    for (std::size_t i = 1; i < two.size(); ++i)
+      EXPECT_LT(two[i], two[i - 1]);
+    EXPECT_LT(two.back(), 0.5 * two.front());
+  }
+
+  TEST(RodModel, StepEnergyErrorKeepsTheLedgerWithStiffContacts)
+  {
+    // Ten times the contact stiffness and FEM/Step error: steps longer than
+    // a contact's period, in which impacts make energy the local error does
+    // not see. The energy estimate (the default target) shortens them, and
+    // the ledger closes.
+    double balance[2];
+    unsigned long steps[2];
+    for (const bool energy : {false, true})
+      {
+        auto s = contact_scene("FEM/Step error=1e-2");
+        s.contact.normal_stiffness *= 10;
+        if (!energy)
+          s.fem.step_energy_error = 0;
+        fem::RodModel m(s);
+        while (m.injected_length() < 40.0)
+          m.step();
+        balance[energy] = m.energies().balance_error();
+        steps[energy] = m.n_steps();
+        std::cout << (energy ? "with" : "without") << " the energy estimate: " << m.n_steps()
+                  << " steps, balance error " << balance[energy] << "\n";
+      }
+    EXPECT_GT(std::abs(balance[0]), 1e-2) << "no energy made by the long steps, nothing to test";
+    EXPECT_LT(std::abs(balance[1]), 5e-3);
+    EXPECT_GT(steps[1], steps[0]);
   }
 
   TEST(RodModel, StepErrorSetsTheStepsFromTheEstimate)

@@ -151,6 +151,8 @@ namespace wirefem::fem
     /// FEM/Step error: the last step's local error estimate, the steps made
     /// again for it; the length of the next step, to be set by a test.
     static double error_estimate(const RodModel &rod) { return rod.impl->error_estimate; }
+    /// FEM/Step energy error: the last step's energy estimate.
+    static double energy_estimate(const RodModel &rod) { return rod.impl->energy_estimate; }
     static unsigned long error_cuts(const RodModel &rod) { return rod.impl->error_cuts; }
     static void set_next_step(RodModel &rod, const double step) { rod.impl->dt = step; }
     /// The wall springs of FEM/Friction law = spring (per node, at the last

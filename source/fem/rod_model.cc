@@ -4,15 +4,16 @@ namespace wirefem::fem
 {
   namespace
   {
-    constexpr std::uint64_t fem_magic = 0x77666d66656d3036ull; // "wfmfem06"
+    constexpr std::uint64_t fem_magic = 0x77666d66656d3037ull; // "wfmfem07"
     // Written byte for byte into the checkpoint: no padding.
     static_assert(sizeof(core::StepReport) == sizeof(double) + 2 * sizeof(int), "StepReport has padding");
 
-    /// FEM/Step error: the factor on the step that brings the local error
-    /// estimate to the target (with a margin of 0.9; the error goes as h^3).
-    double error_factor(const double target, const double estimate)
+    /// FEM/Step error: the factor on the step that brings the larger ratio
+    /// of an error estimate to its target to 1 (with a margin of 0.9; the
+    /// local error goes as h^3).
+    double error_factor(const double ratio)
     {
-      return 0.9 * std::cbrt(target / estimate);
+      return 0.9 * std::cbrt(1.0 / ratio);
     }
   } // namespace
 
@@ -82,7 +83,7 @@ namespace wirefem::fem
             // Shorter: by half for an overlap, by the estimate for an error.
             const bool overlap = outcome == Outcome::overlap_grew;
             ++(overlap ? m.overlap_cuts : m.error_cuts);
-            step *= overlap ? 0.5 : std::clamp(error_factor(m.step_error, m.error_estimate), 0.25, 0.9);
+            step *= overlap ? 0.5 : std::clamp(error_factor(m.error_ratio), 0.25, 0.9);
             continue;
           }
         ++m.cuts;
@@ -112,11 +113,13 @@ namespace wirefem::fem
     // iterations, or (modified Newton) at most two tangents in five.
     const std::size_t iterations = m.history.size() - 1;
     const bool easy = iterations <= 3 || (m.modified_newton && m.step_tangents <= 2 && iterations <= 5);
-    // FEM/Step error (steps with inertia): the step the estimate asks for,
-    // by at most twice (and not longer when Newton had a hard time).
-    const double grow =
-        m.error_estimate > 0 ? std::clamp(error_factor(m.step_error, m.error_estimate), 0.5, 2.0) : 1.5;
+    // FEM/Step error: the step the estimates ask for, by at most twice (not
+    // longer after a hard Newton), down to 1/64 of the cap (part of the
+    // energy estimate does not shrink with the step).
+    const double grow = m.error_ratio > 0 ? std::clamp(error_factor(m.error_ratio), 0.5, 2.0) : 1.5;
     m.dt = std::min(m.dt_max, step * (easy ? grow : std::min(grow, 1.0)));
+    if (grow < 1.0)
+      m.dt = std::max(m.dt, std::min(step, m.dt_max / 64));
     if (m.dynamic_phase())
       m.after_dynamic_step();
   }
@@ -331,6 +334,8 @@ namespace wirefem::fem
     core::write_raw(out, m.cuts);
     core::write_raw(out, m.overlap_cuts);
     core::write_raw(out, m.error_cuts);
+    core::write_raw(out, m.last_imbalance);
+    core::write_raw(out, m.last_step);
     core::write_raw(out, m.last_report);
     core::write_raw(out, m.first_free);
     core::write_raw(out, m.last_free);
@@ -369,6 +374,8 @@ namespace wirefem::fem
     m.cuts = core::read_raw<unsigned long>(in);
     m.overlap_cuts = core::read_raw<unsigned long>(in);
     m.error_cuts = core::read_raw<unsigned long>(in);
+    m.last_imbalance = core::read_raw<double>(in);
+    m.last_step = core::read_raw<double>(in);
     m.last_report = core::read_raw<core::StepReport>(in);
     m.first_free = core::read_raw<int>(in);
     m.last_free = core::read_raw<int>(in);
@@ -432,7 +439,8 @@ namespace wirefem::fem
     if (impl->overlap_growth > 0)
       out << fmt::format("steps cut for overlap growth (FEM/Overlap growth): {}\n", impl->overlap_cuts);
     if (impl->step_error > 0)
-      out << fmt::format("steps cut for their local error (FEM/Step error): {}\n", impl->error_cuts);
+      out << fmt::format("steps cut for their local or energy error (FEM/Step error): {}\n",
+                         impl->error_cuts);
     const auto &ls = impl->lu.statistics();
     if (impl->kept_factors)
       out << fmt::format("GMRES on kept factors: {} solves, {:.2f} iterations each, {} refactorised; "

@@ -221,8 +221,10 @@ namespace wirefem::fem
     double t = 0, dt = 0, dt_max = 0;
     unsigned long steps = 0, cuts = 0;
     /// FEM/Overlap growth (injection set-up; 0: off) and the steps cut for it;
-    /// FEM/Step error (0: off), the last step's estimate, the steps it cut.
-    double overlap_growth = 0, step_error = 0, error_estimate = 0;
+    /// FEM/Step error and Step energy error (0: off), the last step's estimates,
+    /// their larger ratio to them, the steps cut; the last step's imbalance, length.
+    double overlap_growth = 0, step_error = 0, step_energy_error = 0;
+    double error_estimate = 0, energy_estimate = 0, error_ratio = 0, last_imbalance = 0, last_step = 0;
     unsigned long overlap_cuts = 0, error_cuts = 0;
     unsigned long newton_iterations = 0; ///< linear solves of Newton's method in all
     int first_free = 0, last_free = 0;   // free nodes [first, last)
@@ -521,6 +523,8 @@ namespace wirefem::fem
     /// Generalized-alpha's local error of the step x (d, max norm over the
     /// free dofs [first, last)), for FEM/Step error.
     double local_error(const StepState &x, int first, int last) const;
+    /// Sets the step's estimates and their larger ratio to the targets; returns it.
+    double estimate_errors(const StepState &x, int first, int last, const core::EnergyLedger &after);
     /// The broad phase's candidate pairs for the free range.
     void update_contact_candidates(int first, int last);
     /// The node positions of x, as the broad phase takes them.
@@ -555,8 +559,6 @@ namespace wirefem::fem
     /// Newton's right-hand side over the free dofs: minus the blended
     /// residual.
     void newton_rhs(const Evaluation &ev, const AssemblyRequest &rq, dealii::Vector<double> &rhs) const;
-    /// max |K - K_fd| / max |K| at x.u1, K assembled there and K_fd the
-    /// central differences of the assembled residual (tests).
     /// Called (when set) with the first assembly of each implicit step, at
     /// the predictor: the tests compare the tangent K there with finite
     /// differences of the residual (tests/rod_probe.h).
@@ -564,30 +566,27 @@ namespace wirefem::fem
     void explicit_step(double step);
     bool explicit_mode = false;
     std::vector<double> lumped_element; // row sums of element_mass
-    double cell_kinetic(unsigned int c, const dealii::Vector<double> &vel) const
-    {
-      const unsigned int nd = n_local;
-      double ek = 0;
-      for (unsigned int i = 0; i < nd; ++i)
-        {
-          const double vi = vel[3 * cell_node[c][i / 3] + i % 3];
-          if (explicit_mode)
-            ek += 0.5 * lumped_element[i] * vi * vi;
-          else
-            for (unsigned int j = 0; j < nd; ++j)
-              ek += 0.5 * vi * element_mass[i * nd + j] * vel[3 * cell_node[c][j / 3] + j % 3];
-        }
-      return ek;
-    }
+    double cell_kinetic(unsigned int c, const dealii::Vector<double> &vel) const;
     /// The channels' work over a step into `work` (left, right).
     void channel_work(const dealii::Vector<double> &u1, const Evaluation &e, int work_first, int work_last,
                       bool trapezoid, double (&work)[2]) const;
-    /// Accepts the step. The channel work is summed over the prescribed dofs
-    /// of the free range [work_first, work_last) (the range the step was
-    /// solved with).
+    /// The ledger after a step to (u1, v1), and the channels' work over it.
+    /// The channel work is summed over the prescribed dofs of the free range
+    /// [work_first, work_last) (the range the step was solved with).
+    struct Booking
+    {
+      core::EnergyLedger ledger;
+      double work[2] = {0, 0};
+    };
+    Booking book(int first, int last, const dealii::Vector<double> &u1, const dealii::Vector<double> &v1,
+                 const Evaluation &e, int work_first, int work_last) const;
+    /// FEM/Step energy error: the ledger's imbalance over this step and the
+    /// last, over their share (length / time) of the energy in so far.
+    double energy_error(const core::EnergyLedger &after, double step) const;
+    /// Accepts the step, booked as b.
     void commit(double step, int first, int last, const dealii::Vector<double> &u1,
                 const dealii::Vector<double> &v1, const dealii::Vector<double> &a1, Evaluation &e,
-                int work_first, int work_last);
+                const Booking &b);
     double kinetic_energy(const dealii::Vector<double> &vel, int first, int last) const;
     bool cell_active(unsigned int c, int first, int last) const
     {

@@ -336,6 +336,7 @@ namespace wirefem::fem
     velocity_predictor = s.fem.velocity_predictor;
     overlap_growth = clamped || capstan ? 0.0 : s.fem.overlap_growth;
     step_error = s.fem.step_error;
+    step_energy_error = s.fem.step_energy_error;
     if (clamped)
       {
         force_scale = s.cantilever.force_scale(w.bending_stiffness);

@@ -4,18 +4,6 @@
 
 namespace wirefem::fem
 {
-  double RodModel::Impl::kinetic_energy(const dealii::Vector<double> &vel, const int first,
-                                        const int last) const
-  {
-    if (!inertia)
-      return 0.0;
-    double ek = 0;
-    for (unsigned int c = 0; c < n_cells; ++c)
-      if (cell_active(c, first, last))
-        ek += cell_kinetic(c, vel);
-    return ek;
-  }
-
   void RodModel::Impl::explicit_step(const double step)
   {
     const unsigned int n = u.size();
@@ -62,7 +50,7 @@ namespace wirefem::fem
       if (i % 3 != 2)
         lightest = std::min(lightest, mass[i]);
     const double friction_step = lightest / (2.0 * e.friction_damping);
-    commit(step, first, last, u1, v1, a1, e, first_free, last_free);
+    commit(step, first, last, u1, v1, a1, e, book(first, last, u1, v1, e, first_free, last_free));
     dt = std::min(dt_max, friction_step);
   }
 
@@ -308,16 +296,16 @@ namespace wirefem::fem
             if (overlap_growth > 0 && e.max_overlap > last_report.max_penetration + overlap_growth &&
                 0.5 * step >= dt_max / 16)
               return StepOutcome::overlap_grew;
-            // A local error above four times FEM/Step error: a shorter
-            // step, down to 1/64 of the step cap. (Within that, the next
-            // step is set from the estimate: a step made again costs a
-            // whole Newton iteration.)
-            error_estimate = step_error > 0 && x.inertia ? local_error(x, first, last) : 0.0;
-            if (error_estimate > 4.0 * step_error && step_error > 0 && step > dt_max / 64)
-              return StepOutcome::error_too_large;
             for (unsigned int i = 0; i < n; ++i)
               e.residual[i] += alpha_f * f_old[i];
-            commit(step, first, last, u1, x.v1, x.a1, e, first, last);
+            const Booking b = book(first, last, u1, x.v1, e, first, last);
+            // A local or energy error above four times its target: a
+            // shorter step, down to 1/64 of the step cap. (Within that, the
+            // next step is set from the estimates: a step made again costs
+            // a whole Newton iteration.)
+            if (estimate_errors(x, first, last, b.ledger) > 4.0 && step > dt_max / 64)
+              return StepOutcome::error_too_large;
+            commit(step, first, last, u1, x.v1, x.a1, e, b);
             return StepOutcome::converged;
           }
         if (!std::isfinite(res) || it == scene.fem.maximum_iterations)
@@ -342,6 +330,18 @@ namespace wirefem::fem
     return StepOutcome::not_converged;
   }
 
+  double RodModel::Impl::estimate_errors(const StepState &x, const int first, const int last,
+                                         const core::EnergyLedger &after)
+  {
+    const bool control = step_error > 0 && x.inertia;
+    error_estimate = control ? local_error(x, first, last) : 0.0;
+    energy_estimate = control && step_energy_error > 0 ? energy_error(after, x.step) : 0.0;
+    error_ratio = control ? std::max(error_estimate / step_error,
+                                     step_energy_error > 0 ? energy_estimate / step_energy_error : 0.0)
+                          : 0.0;
+    return error_ratio;
+  }
+
   double RodModel::Impl::local_error(const StepState &x, const int first, const int last) const
   {
     // The update's displacement minus a third-order one, to leading order
@@ -359,119 +359,6 @@ namespace wirefem::fem
     for (const double r : history)
       h += fmt::format(" {:.2e}", r);
     return h;
-  }
-
-  void RodModel::Impl::commit(const double step, const int first, const int last,
-                              const dealii::Vector<double> &u1, const dealii::Vector<double> &v1,
-                              const dealii::Vector<double> &a1, Evaluation &e, const int work_first,
-                              const int work_last)
-  {
-    const unsigned int n = u.size();
-    if (quasi_static_injection && !dynamic_phase() && std::getenv("WIREFEM_NEWTON_LOG"))
-      log_jump(step, first, last, u1);
-    // Wire that entered the system this step brings its kinetic energy.
-    if (first < first_free || last > last_free)
-      {
-        double before = 0;
-        for (unsigned int c = 0; c < n_cells; ++c)
-          if (inertia && cell_active(c, first, last) && !cell_active(c, first_free, last_free))
-            before += cell_kinetic(c, v);
-        ledger.injection_work += before;
-      }
-    // Quasi-static steps book the work of the forces by the trapezoidal
-    // rule, with the forces of the equilibria at both ends of the step
-    // (both ends are equilibria, so the balance closes to second order in
-    // the step). The end forces alone, as the dynamic steps book them,
-    // leave a first-order error that strong wall friction makes large
-    // (9.6e-2 at mu_st 5 on the f = 10 classic scene, against 7.4e-4), and
-    // miss the work of a node's reaction as the node leaves its channel.
-    const bool trapezoid = quasi_static_injection && !dynamic_phase();
-    double work[2] = {0, 0};
-    channel_work(u1, e, work_first, work_last, trapezoid, work);
-    const double du = injected_at(t + step) - injected_at(t);
-    for (int side = 0; side < 2; ++side)
-      {
-        ledger.injection_work += work[side];
-        window[side].add(du, work[side]);
-      }
-    // Friction and dashpots: the work of their nodal forces (at the end of
-    // the step) against the motion of the nodes. For the dashpots this is
-    // N_v (dN/du) du rather than N_v d(eps): the two differ at second order
-    // in the step because the strains are nonlinear in u, and only the
-    // first is the energy the time step actually removed (the difference
-    // made a first-order drift of the balance in dynamic scenes).
-    const double w1 = trapezoid ? 0.5 : 1.0, w0 = 1.0 - w1;
-    double friction = 0, viscous = 0;
-    for (unsigned int i = 0; i < n; ++i)
-      {
-        const double du_i = u1[i] - u[i];
-        const double fr = w1 * e.friction[i] + w0 * friction_old[i];
-        friction += fr * du_i;
-        viscous += (w1 * e.dissipative[i] + w0 * dissipative_old[i] - fr) * du_i;
-      }
-    // Under the spring law the friction forces also load the wall springs:
-    // what they hold is stored, not dissipated (as in the discrete model).
-    ledger.friction += friction - (e.friction_stored - ledger.friction_stored);
-    ledger.friction_stored = e.friction_stored;
-    ledger.plastic += e.plastic;
-    ledger.damping += viscous;
-    ledger.stretching = e.axial;
-    ledger.shear = e.shear;
-    ledger.bending = e.bending;
-    ledger.contact = e.contact;
-    ledger.kinetic = kinetic_energy(v1, first, last);
-    last_report = {e.max_overlap, static_cast<int>(e.pairs.size()), e.n_wall};
-    if (wall_spring && !e.wall_history.empty())
-      {
-        // The springs continue from where e was taken (explicit: u_n).
-        wall_springs = e.wall_history;
-        note_spring_positions(explicit_mode ? u : u1);
-      }
-    self_springs.commit(std::move(e.self_history)); // (none but under FEM/Self friction law = spring)
-    u = u1;
-    v = v1;
-    a = a1;
-    f_old = e.force;
-    dissipative_old = e.dissipative;
-    friction_old = e.friction;
-    qp = e.state;
-    t += step;
-    ++steps;
-    first_free = first;
-    last_free = last;
-    latest = std::move(e);
-  }
-
-  void RodModel::Impl::channel_work(const dealii::Vector<double> &u1, const Evaluation &e,
-                                    const int work_first, const int work_last, const bool trapezoid,
-                                    double (&work)[2]) const
-  {
-    // The reactions at the prescribed dofs of the active cells: at the end
-    // of the step, or (trapezoid) the mean of the step's two ends, where a
-    // node that left its channel this step has no reaction at the end.
-    std::vector<char> counted(n_nodes, 0);
-    auto held = [](const int k, const int lo, const int hi) { return k < lo || k >= hi; };
-    const double w1 = trapezoid ? 0.5 : 1.0, w0 = 1.0 - w1;
-    for (unsigned int c = 0; c < n_cells; ++c)
-      if (cell_active(c, work_first, work_last))
-        for (const auto k : cell_node[c])
-          {
-            const int ki = static_cast<int>(k);
-            const bool held_now = held(ki, work_first, work_last);
-            const bool held_before = trapezoid && held(ki, first_free, last_free);
-            if ((!held_now && !held_before) || counted[k])
-              continue;
-            counted[k] = 1;
-            double w = 0;
-            for (unsigned int cc = 0; cc < 3; ++cc)
-              {
-                const unsigned int i = 3 * k + cc;
-                const double r = (held_now ? w1 * e.residual[i] : 0.0) +
-                                 (held_before ? w0 * (f_old[i] + dissipative_old[i]) : 0.0);
-                w += r * (u1[i] - u[i]);
-              }
-            work[2 * ki < work_first + work_last ? 0 : 1] += w;
-          }
   }
 
   void RodModel::Impl::enter_dynamics()

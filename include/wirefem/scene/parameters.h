@@ -259,6 +259,7 @@ namespace wirefem::scene
     bool velocity_predictor = true;     ///< Newton starts from u + h v, not u + h v + h^2 a / 2
     double overlap_growth = 0.0;        ///< d per step before a converged step is cut; 0: off
     double step_error = 0.0;            ///< d: local error a step may make (0: off)
+    double step_energy_error = 0.03;    ///< with step_error: energy error of two steps / their energy in
     bool kept_factors = false;          ///< GMRES on kept LU factors instead of an LU per iteration
     double linear_tolerance = 1e-9;     ///< GMRES's, relative to the Newton residual
     double linear_floor = 1e-3;         ///< GMRES's, relative to the Newton tolerance
