@@ -59,6 +59,10 @@ SLOW = {"sets": ["Injection/Speed=0.01"], "label": "discrete, Injection/Speed = 
 QUASI_STATIC = {"sets": ["FEM/Integrator=quasi-static"], "label": "fem, FEM/Integrator = quasi-static"}
 SELF_SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring"],
                "label": "fem, the chain's friction law at the wall and between wires"}
+# ... and the step set by its error estimates (FEM/Step error, with the
+# energy estimate at its default).
+FAST = {"sets": SELF_SPRING["sets"] + ["FEM/Step error=1e-2"],
+        "label": "fem, the chain's friction law at the wall and between wires, FEM/Step error = 1e-2"}
 STUDIES = {
     "fig5": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
     "elastic": {"scene": "elastic", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
@@ -81,6 +85,8 @@ STUDIES = {
     "fig5_fem_self_spring": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **SELF_SPRING},
     "elastic_fem_self_spring": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4),
                                 **SELF_SPRING},
+    "fig5_fem_fast": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **FAST},
+    "elastic_fem_fast": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4), **FAST},
     # The FEM's quasi-static limit itself: no inertia, steps by injected
     # length, snaps taken by dynamics with the injection paused.
     "fig5_fem_qs": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **QUASI_STATIC},

@@ -17,7 +17,9 @@ The studies (analysis.STUDIES; run directories OUTDIR/<study>_s<seed>):
   from the FEM (3 seeds each) with each wall-friction law (FEM/Friction
   law = regularised and = spring, the default: 6-8 minutes a run, the
   elastic scene under the spring law about 20); the elastic classic scene
-  at f = 50 (3 seeds, about 4 minutes a run);
+  at f = 50 (3 seeds, about 4 minutes a run); the FEM with the chain's
+  friction law between wires too, with and without FEM/Step error =
+  1e-2 (the step set by its error estimates);
 - both classic scenes in the quasi-static limit (Injection/Speed = 0.01,
   9 seeds each; about 25 and 40 minutes a run), and from the FEM with
   FEM/Integrator = quasi-static (3 seeds each);
