@@ -71,6 +71,8 @@ namespace wirefem::fem
     steps = 0;
     v = 0.0;
     a = 0.0;
+    // The step control's memory starts afresh with the ledger.
+    last_step = last_imbalance = 0.0;
   }
 
   void RodModel::Impl::note_spring_positions(const dealii::Vector<double> &at)
