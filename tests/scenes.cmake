@@ -215,7 +215,8 @@ endforeach()
 # set by FEM/Step error) on the classic scene's hard cases at f = 10: each
 # ends with its ledger closed to 1% (an open one exits 3). Without the energy
 # estimate (FEM/Step energy error = 0) k_n x 10 made a third more energy than
-# was put in; that case (about 10 s) is in the default run.
+# was put in; that case (about 10 s) is in the default run (label regression
+# alone: the default run excludes every test labelled stress).
 foreach(case "kn10;Contact/Normal stiffness=20000"
         "s1;Wire/Plasticity/Hardening slope=1"
         "kappa0;Wire/Plasticity/Yield curvature=0"
@@ -230,7 +231,7 @@ foreach(case "kn10;Contact/Normal stiffness=20000"
                    -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
   set_tests_properties(scene.fem_step_error_hard_case_${name} PROPERTIES LABELS stress TIMEOUT 600)
 endforeach()
-set_tests_properties(scene.fem_step_error_hard_case_kn10 PROPERTIES LABELS "regression;stress")
+set_tests_properties(scene.fem_step_error_hard_case_kn10 PROPERTIES LABELS regression)
 # The FEM on the paper scenes to jamming (ctest -L stress): the classic and
 # plastic scenes at f = 15 stalled at phi 0.46 and 0.42 (Newton failing with
 # the step cut to 1e-7) while the node-to-segment self contact kept only the
@@ -264,7 +265,7 @@ foreach(f 15 25)
                    -DSETTING=Cavity/Radius=${f} -DMODEL=Model=fem -DEXTRA=FEM/Integrator=quasi-static -DJAMMED=ON
                    -DOUT=${SCENE_OUT}/fem_quasi_static_classic_f${f} -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
 endforeach()
-set_tests_properties(scene.fem_quasi_static_classic_f15_jams PROPERTIES LABELS "regression;stress" TIMEOUT 600)
+set_tests_properties(scene.fem_quasi_static_classic_f15_jams PROPERTIES LABELS regression TIMEOUT 600)
 set_tests_properties(scene.fem_quasi_static_classic_f25_jams PROPERTIES LABELS stress TIMEOUT 3600)
 # The Fig. 5 scene (kappa_theta 0.08, s 0.05): quasi-static Newton met a
 # point it could not pass at phi 0.097 (50 snaps in a row there) until a
