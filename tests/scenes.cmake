@@ -44,6 +44,32 @@ function(wirefem_bad_input prm)
     set_tests_properties(scene.bad_input_${name} PROPERTIES LABELS regression)
   endforeach()
 endfunction()
+# Hard cases: each case "name|Section/Key=value" runs the scene file PRM
+# (with MODEL and EXTRA, as expect_clean_run.cmake takes them) as the test
+# scene.<PREFIX>_<name> into SCENE_OUT/<OUT>_<name>; it must run to its end
+# without a numerical stop.
+function(wirefem_hard_cases)
+  cmake_parse_arguments(H "" "PREFIX;OUT;PRM;MODEL;EXTRA;TIMEOUT" "LABELS;CASES" ${ARGN})
+  set(options)
+  if(H_MODEL)
+    list(APPEND options -DMODEL=${H_MODEL})
+  endif()
+  if(H_EXTRA)
+    list(APPEND options "-DEXTRA=${H_EXTRA}")
+  endif()
+  foreach(case ${H_CASES})
+    string(REPLACE "|" ";" case "${case}")
+    list(GET case 0 name)
+    list(GET case 1 setting)
+    add_test(NAME scene.${H_PREFIX}_${name}
+             COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${H_PRM} -DSETTING=${setting} ${options}
+                     -DOUT=${SCENE_OUT}/${H_OUT}_${name} -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
+    set_tests_properties(scene.${H_PREFIX}_${name} PROPERTIES LABELS "${H_LABELS}")
+    if(H_TIMEOUT)
+      set_tests_properties(scene.${H_PREFIX}_${name} PROPERTIES TIMEOUT ${H_TIMEOUT})
+    endif()
+  endforeach()
+endfunction()
 wirefem_bad_input(${CMAKE_SOURCE_DIR}/prm/quick.prm "radius|Cavity/Radius=-3"
                   "dynamic|Contact/Friction/Dynamic coefficient=9" "density|Injection/Maximum packing density=0.001")
 # The benchmark set-ups of validation/.
@@ -156,20 +182,10 @@ set_tests_properties(scripts.plot_morphology PROPERTIES LABELS regression DEPEND
 
 # Hard cases: each runs to its end (jamming or the maximum density) without a
 # numerical stop. summary.json must say failed = false (checked by the script).
-foreach(case "mu5;Contact/Friction/Static coefficient=5"
-        "kappa0;Wire/Plasticity/Yield curvature=0"
-        "s0;Wire/Plasticity/Hardening slope=0"
-        "s1;Wire/Plasticity/Hardening slope=1"
-        "kn10;Contact/Normal stiffness=20000"
-        "speed10;Injection/Speed=10")
-  list(GET case 0 name)
-  list(GET case 1 setting)
-  add_test(NAME scene.hard_case_${name}
-           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
-                   -DSETTING=${setting} -DOUT=${SCENE_OUT}/hard_${name}
-                   -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
-  set_tests_properties(scene.hard_case_${name} PROPERTIES LABELS "regression;stress")
-endforeach()
+wirefem_hard_cases(PREFIX hard_case OUT hard PRM ${CMAKE_SOURCE_DIR}/prm/quick.prm LABELS regression stress
+                   CASES "mu5|Contact/Friction/Static coefficient=5" "kappa0|Wire/Plasticity/Yield curvature=0"
+                         "s0|Wire/Plasticity/Hardening slope=0" "s1|Wire/Plasticity/Hardening slope=1"
+                         "kn10|Contact/Normal stiffness=20000" "speed10|Injection/Speed=10")
 # A fine chain (lambda_0 = d/16), where the rotational dashpot, not the
 # stiffness, limits the explicit step; up to phi = 0.07 (just past buckling).
 add_test(NAME scene.hard_case_fine_chain
@@ -199,38 +215,22 @@ add_test(NAME scene.fem_explicit_classic_friction_ledger
                  -DMIN_PHI=0.3 -DOUT=${SCENE_OUT}/fem_explicit_classic
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
 set_tests_properties(scene.fem_explicit_classic_friction_ledger PROPERTIES LABELS regression)
-foreach(case "mu5;Contact/Friction/Static coefficient=5"
-        "kappa0;Wire/Plasticity/Yield curvature=0"
-        "kn10;Contact/Normal stiffness=20000"
-        "speed10;Injection/Speed=10")
-  list(GET case 0 name)
-  list(GET case 1 setting)
-  add_test(NAME scene.fem_hard_case_${name}
-           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/quick.prm
-                   -DSETTING=${setting} -DMODEL=Model=fem -DOUT=${SCENE_OUT}/fem_hard_${name}
-                   -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
-  set_tests_properties(scene.fem_hard_case_${name} PROPERTIES LABELS "regression;stress")
-endforeach()
+wirefem_hard_cases(PREFIX fem_hard_case OUT fem_hard PRM ${CMAKE_SOURCE_DIR}/prm/quick.prm MODEL Model=fem
+                   LABELS regression stress
+                   CASES "mu5|Contact/Friction/Static coefficient=5" "kappa0|Wire/Plasticity/Yield curvature=0"
+                         "kn10|Contact/Normal stiffness=20000" "speed10|Injection/Speed=10")
 # The FEM's faster pair (the chain's friction law between wires, the step
 # set by FEM/Step error) on the classic scene's hard cases at f = 10: each
 # ends with its ledger closed to 1% (an open one exits 3). Without the energy
 # estimate (FEM/Step energy error = 0) k_n x 10 made a third more energy than
 # was put in; that case (about 10 s) is in the default run (label regression
 # alone: the default run excludes every test labelled stress).
-foreach(case "kn10;Contact/Normal stiffness=20000"
-        "s1;Wire/Plasticity/Hardening slope=1"
-        "kappa0;Wire/Plasticity/Yield curvature=0"
-        "speed10;Injection/Speed=3")
-  list(GET case 0 name)
-  list(GET case 1 setting)
-  add_test(NAME scene.fem_step_error_hard_case_${name}
-           COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
-                   -DSETTING=${setting} -DMODEL=Model=fem
-                   "-DEXTRA=Cavity/Radius=10|FEM/Self friction law=spring|FEM/Step error=1e-2|Output/VTU interval=0"
-                   -DOUT=${SCENE_OUT}/fem_step_error_hard_${name}
-                   -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
-  set_tests_properties(scene.fem_step_error_hard_case_${name} PROPERTIES LABELS stress TIMEOUT 600)
-endforeach()
+wirefem_hard_cases(PREFIX fem_step_error_hard_case OUT fem_step_error_hard PRM ${CMAKE_SOURCE_DIR}/prm/classic.prm
+                   MODEL Model=fem
+                   EXTRA "Cavity/Radius=10|FEM/Self friction law=spring|FEM/Step error=1e-2|Output/VTU interval=0"
+                   LABELS stress TIMEOUT 600
+                   CASES "kn10|Contact/Normal stiffness=20000" "s1|Wire/Plasticity/Hardening slope=1"
+                         "kappa0|Wire/Plasticity/Yield curvature=0" "speed10|Injection/Speed=3")
 set_tests_properties(scene.fem_step_error_hard_case_kn10 PROPERTIES LABELS regression)
 # The FEM on the paper scenes to jamming (ctest -L stress): the classic and
 # plastic scenes at f = 15 stalled at phi 0.46 and 0.42 (Newton failing with
