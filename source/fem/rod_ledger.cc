@@ -3,15 +3,6 @@
 // The energy ledger of a step: what each step books, and the commit.
 namespace wirefem::fem
 {
-  namespace
-  {
-    /// Energy in - stored - dissipated: what the ledger leaves out.
-    double imbalance(const core::EnergyLedger &l)
-    {
-      return l.initial + l.injection_work - l.stored() - l.dissipated();
-    }
-  } // namespace
-
   double RodModel::Impl::cell_kinetic(const unsigned int c, const dealii::Vector<double> &vel) const
   {
     const unsigned int nd = n_local;
@@ -104,11 +95,10 @@ namespace wirefem::fem
     // to step (it is excited by every contact), and with it the imbalance
     // of a single step, which then does not fall with the step; over two
     // steps it mostly cancels.
-    const double in = after.initial + after.injection_work;
-    if (in <= 0.0)
+    if (after.in() <= 0.0)
       return 0.0;
-    const double both = imbalance(after) - imbalance(ledger) + last_imbalance;
-    return std::abs(both) / (in * (step + last_step) / (t + step));
+    const double both = after.imbalance() - ledger.imbalance() + last_imbalance;
+    return std::abs(both) / (after.in() * (step + last_step) / (t + step));
   }
 
   void RodModel::Impl::commit(const double step, const int first, const int last,
@@ -120,7 +110,7 @@ namespace wirefem::fem
     const double du = injected_at(t + step) - injected_at(t);
     for (int side = 0; side < 2; ++side)
       window[side].add(du, b.work[side]);
-    last_imbalance = imbalance(b.ledger) - imbalance(ledger);
+    last_imbalance = b.ledger.imbalance() - ledger.imbalance();
     last_step = step;
     ledger = b.ledger;
     last_report = {e.max_overlap, static_cast<int>(e.pairs.size()), e.n_wall};

@@ -33,12 +33,12 @@ namespace wirefem::core
 
     double stored() const { return stretching + shear + bending + contact + friction_stored + kinetic; }
     double dissipated() const { return plastic + friction + damping; }
-    /// (energy in - stored - dissipated) / energy in, energy in = initial + injection work.
-    double balance_error() const
-    {
-      const double in = initial + injection_work;
-      return in > 0.0 ? (in - stored() - dissipated()) / in : 0.0;
-    }
+    /// Energy in: the initial energy and the injection work.
+    double in() const { return initial + injection_work; }
+    /// What the ledger leaves out: energy in - stored - dissipated.
+    double imbalance() const { return in() - stored() - dissipated(); }
+    /// imbalance / energy in.
+    double balance_error() const { return in() > 0.0 ? imbalance() / in() : 0.0; }
   };
 
   /// What the last step saw.
