@@ -160,6 +160,23 @@ namespace
       }
   }
 
+  TEST(Scene, TheAutomaticSelfFrictionLawIsTheSpringsWithImplicitDynamicsAtTheNodes)
+  {
+    // FEM/Self friction law = auto: the discrete model's springs where they
+    // are implemented and paid off (generalized-alpha, contact at the
+    // nodes), the regularised law elsewhere; a named law is taken as it is.
+    const auto springs = [](std::vector<std::string> o) {
+      o.insert(o.begin(), "Model=fem");
+      return read_scene("", o).fem.spring_self_friction;
+    };
+    EXPECT_TRUE(springs({}));
+    EXPECT_FALSE(springs({"FEM/Integrator=quasi-static"}));
+    EXPECT_FALSE(springs({"FEM/Integrator=explicit"}));
+    EXPECT_FALSE(springs({"FEM/Contact points=2"}));
+    EXPECT_FALSE(springs({"FEM/Self friction law=regularised"}));
+    EXPECT_TRUE(springs({"FEM/Integrator=quasi-static", "FEM/Self friction law=spring"}));
+  }
+
   TEST(Scene, PolygonVerticesComeFromAFileBesideTheScene)
   {
     const auto dir = std::filesystem::temp_directory_path() / "wirefem_vertex_file";

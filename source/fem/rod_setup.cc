@@ -312,7 +312,7 @@ namespace wirefem::fem
   {
     // FEM/Step error: the local error estimate sets the step, under a cap
     // ten times as long and not tied to the contact period.
-    if (s.fem.step_error > 0)
+    if (step_error > 0)
       return std::min(0.25, 0.25 * diameter / s.injection.speed);
     // At most a fifth of a contact's period 2 pi sqrt(rho A / k_n) too (0.028
     // at the default k_n; at 10 k_n the ledger closes to 5e-4, not 2.3%).
@@ -337,7 +337,11 @@ namespace wirefem::fem
     newton_contraction = s.fem.newton_contraction;
     velocity_predictor = s.fem.velocity_predictor;
     overlap_growth = clamped || capstan ? 0.0 : s.fem.overlap_growth;
-    step_error = s.fem.step_error;
+    // The error control steps implicit dynamics only: not the explicit
+    // integrator's stability-limited step, nor the load steps of the
+    // quasi-static set-ups.
+    step_error =
+        clamped || capstan || integrator == scene::Integrator::explicit_lumped ? 0.0 : s.fem.step_error;
     step_energy_error = s.fem.step_energy_error;
     if (clamped)
       {

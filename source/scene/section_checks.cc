@@ -232,5 +232,10 @@ namespace wirefem::scene
       axial_viscosity = discrete.axial_damping * discrete.segment_length;
     if (bending_viscosity < 0)
       bending_viscosity = discrete.rotational_damping * discrete.segment_length;
+    // The springs need an implicit integrator and contact at the nodes;
+    // with quasi-static steps they saved nothing (classic scene, f = 15).
+    spring_self_friction = self_friction_law == SelfFrictionLaw::spring ||
+                           (self_friction_law == SelfFrictionLaw::automatic &&
+                            integrator == Integrator::generalized_alpha && contact_points == 0);
   }
 } // namespace wirefem::scene

@@ -53,16 +53,24 @@ GRID = 0.001  # phi spacing of the averaged force
 # The studies: a scene with a model, cavity radius and seeds, and keys of
 # the model ("sets", named in the report by "label"); run directories
 # OUTDIR/<study>_s<seed>.
-REGULARISED = {"sets": ["FEM/Friction law=regularised"], "label": "fem, FEM/Friction law = regularised"}
-SPRING = {"sets": ["FEM/Friction law=spring"], "label": "fem, FEM/Friction law = spring"}
+# The FEM studies made before FEM/Self friction law = auto and FEM/Step
+# error = 0.01 became the defaults name the keys they were made with: the
+# regularised law between wires and fixed steps.
+FIXED = ["FEM/Step error=0"]
+REGULARISED = {"sets": ["FEM/Friction law=regularised", "FEM/Self friction law=regularised"] + FIXED,
+               "label": "fem, FEM/Friction law = regularised, fixed steps"}
+SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=regularised"] + FIXED,
+          "label": "fem, FEM/Friction law = spring, fixed steps"}
 SLOW = {"sets": ["Injection/Speed=0.01"], "label": "discrete, Injection/Speed = 0.01"}
-QUASI_STATIC = {"sets": ["FEM/Integrator=quasi-static"], "label": "fem, FEM/Integrator = quasi-static"}
-SELF_SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring"],
-               "label": "fem, the chain's friction law at the wall and between wires"}
+QUASI_STATIC = {"sets": ["FEM/Integrator=quasi-static"] + FIXED,
+                "label": "fem, FEM/Integrator = quasi-static, fixed dynamic steps"}
+SELF_SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring"] + FIXED,
+               "label": "fem, the chain's friction law at the wall and between wires, fixed steps"}
 # ... and the step set by its error estimates (FEM/Step error, with the
-# energy estimate at its default).
-FAST = {"sets": SELF_SPRING["sets"] + ["FEM/Step error=1e-2"],
-        "label": "fem, the chain's friction law at the wall and between wires, FEM/Step error = 1e-2"}
+# energy estimate at its default): the FEM's defaults.
+FAST = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring", "FEM/Step error=1e-2"],
+        "label": "fem, the chain's friction law at the wall and between wires, FEM/Step error = 1e-2 "
+                 "(the defaults)"}
 STUDIES = {
     "fig5": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
     "elastic": {"scene": "elastic", "model": "discrete", "radius": 25, "seeds": range(1, 10)},

@@ -243,6 +243,14 @@ namespace wirefem::scene
     explicit_lumped    ///< central differences with a lumped mass matrix
   };
 
+  /// FEM/Self friction law.
+  enum class SelfFrictionLaw
+  {
+    automatic,   ///< spring with generalized-alpha and contact at the nodes, else regularised
+    regularised, ///< mu(v) tanh(v / v_th) on every node-segment pair
+    spring       ///< the discrete model's tangential springs
+  };
+
   struct FemParameters
   {
     Formulation formulation = Formulation::reissner;
@@ -258,7 +266,7 @@ namespace wirefem::scene
     unsigned int maximum_iterations = 15;
     bool velocity_predictor = true;     ///< Newton starts from u + h v, not u + h v + h^2 a / 2
     double overlap_growth = 0.0;        ///< d per step before a converged step is cut; 0: off
-    double step_error = 0.0;            ///< d: local error a step may make (0: off)
+    double step_error = 0.01;           ///< d: local error a step may make (0: off)
     double step_energy_error = 0.03;    ///< with step_error: energy error of two steps / their energy in
     bool kept_factors = false;          ///< GMRES on kept LU factors instead of an LU per iteration
     double linear_tolerance = 1e-9;     ///< GMRES's, relative to the Newton residual
@@ -267,7 +275,8 @@ namespace wirefem::scene
     bool modified_newton = false;       ///< reuse a step's first LU while Newton contracts fast
     double newton_contraction = 0.1;    ///< modified Newton: largest residual ratio on kept factors
     bool spring_friction = true;        ///< wall friction by the discrete model's law (FEM/Friction law)
-    bool spring_self_friction = false;  ///< self friction by the discrete model's law (FEM/Self friction law)
+    SelfFrictionLaw self_friction_law = SelfFrictionLaw::automatic;
+    bool spring_self_friction = false; ///< self friction by the discrete model's law (resolved)
     /// Contact (wall and self): 0, at the nodes; n > 0, at n Gauss points
     /// of each segment of the wire along its element.
     unsigned int contact_points = 0;
@@ -279,8 +288,9 @@ namespace wirefem::scene
     /// likewise from Discrete/Rotational damping * lambda_0 when negative.
     double bending_viscosity = -1.0;
 
-    /// The defaults that come from other sections: the shear stiffness from
-    /// EA, the dashpots from the discrete model's.
+    /// The defaults that come from other sections or keys: the shear
+    /// stiffness from EA, the dashpots from the discrete model's, the self
+    /// friction law from the integrator and the contact points.
     void resolve(double axial_stiffness, const DiscreteParameters &discrete);
   };
 
