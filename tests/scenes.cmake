@@ -234,8 +234,8 @@ set_tests_properties(scene.fem_step_error_hard_case_kn10 PROPERTIES LABELS regre
 # The FEM on the paper scenes to jamming (ctest -L stress): the classic and
 # plastic scenes at f = 15 stalled at phi 0.46 and 0.42 (Newton failing with
 # the step cut to 1e-7) while the node-to-segment self contact kept only the
-# nearest segment of a stretch; each must now jam (about 1 min each), and
-# the classic scene at f = 25 too (6-8 min).
+# nearest segment of a stretch; each must now jam (20-30 s each), and the
+# classic scene at f = 25 too (about 2.5 min).
 foreach(scene_f classic:15 plastic:15 classic:25)
   string(REPLACE ":" ";" scene_f ${scene_f})
   list(GET scene_f 0 scene)
@@ -268,7 +268,7 @@ set_tests_properties(scene.fem_quasi_static_classic_f15_jams PROPERTIES LABELS r
 set_tests_properties(scene.fem_quasi_static_classic_f25_jams PROPERTIES LABELS stress TIMEOUT 3600)
 # The Fig. 5 scene (kappa_theta 0.08, s 0.05): quasi-static Newton met a
 # point it could not pass at phi 0.097 (50 snaps in a row there) until a
-# snap where the last one was pushes on (about 7 min).
+# snap where the last one was pushes on (about 2 min).
 add_test(NAME scene.fem_quasi_static_fig5_f25_jams
          COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
                  -DSETTING=Cavity/Radius=25 -DMODEL=Model=fem
