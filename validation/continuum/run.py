@@ -206,7 +206,7 @@ def plot_work_precision(cases, knobs, uncertainty, filename):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    fig, ax = plt.subplots(figsize=(6.5, 6.0))
     colours = {"discrete": "C0", "fem p=1": "C1", "fem p=2": "C2"}
     for c in cases:
         rows = [r for r in c["rows"] if "error_work" in r]
@@ -217,7 +217,7 @@ def plot_work_precision(cases, knobs, uncertainty, filename):
                         textcoords="offset points", xytext=(4, 2))
     for c, marker in zip(knobs, ("s", "^", "D")):
         ax.loglog([r["wall_time_s"] for r in c["rows"]], [r["error_work"] for r in c["rows"]], marker, color="C3",
-                  ms=4, label=f"fem p=2, h = 1/8: {c['knob']} varied (error against the same run at the default)")
+                  ms=4, label=f"fem p=2, h = 1/8: {c['knob']} varied (error against the reference run)")
         for r in c["rows"]:
             ax.annotate(f"{r['h']:g}", (r["wall_time_s"], r["error_work"]), fontsize=6, color="C3",
                         textcoords="offset points", xytext=(4, -8))
@@ -225,7 +225,7 @@ def plot_work_precision(cases, knobs, uncertainty, filename):
     ax.set_xlabel("wall time (s)")
     ax.set_ylabel("max relative error of W(L), L = 22 ... 30")
     ax.set_title("case 8: work-precision (labels: lambda_0, h or the knob)")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14))
     fig.tight_layout()
     fig.savefig(filename, dpi=100)
 
