@@ -1309,7 +1309,7 @@ namespace
     // GMRES solve reaches 1e-9 of Newton's residual (or 1e-3 of its
     // tolerance), so both runs take the same steps and their wires agree to
     // far less than the contact overlaps; GMRES factorises a fraction as
-    // often (95 against 1,614 times here).
+    // often (68 against 1,187 times here).
     fem::RodModel lu(contact_scene("FEM/Linear solver=refactorise"));
     fem::RodModel kept(contact_scene("FEM/Linear solver=kept factors"));
     double worst = 0.0;
@@ -1349,7 +1349,7 @@ namespace
     const double worst = at_equal_times(full, modified, 30.0);
     // Each converged state is within the Newton tolerance (1e-5 in force)
     // of the exact one, about 1e-8 d through the step's mass term, and such
-    // differences are carried from step to step (here up to 1e-6 d); a
+    // differences are carried from step to step (here up to 4e-6 d); a
     // wrong step (a step's motion is 0.025 d) or another trajectory would
     // show at 1e-3.
     EXPECT_LT(worst, 1e-5) << "largest distance between the two wires (d)";

@@ -97,7 +97,7 @@ namespace wirefem::simulation
     }
 
     /// Quality alarms (docs/output.md, "Warnings"): a step below this
-    /// (time units; the shipped scenes step 3e-3 to 2.5e-2) makes a run
+    /// (time units; the shipped scenes start with steps of 3e-3 to 0.25) makes a run
     /// that may not finish in a useful time; an energy balance error above
     /// the limit at the end makes a result that cannot be trusted.
     constexpr double time_step_floor = 1e-5;

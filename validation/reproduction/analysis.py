@@ -62,7 +62,7 @@ REGULARISED = {"sets": ["FEM/Friction law=regularised", "FEM/Self friction law=r
 SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=regularised"] + FIXED,
           "label": "fem, FEM/Friction law = spring, fixed steps"}
 SLOW = {"sets": ["Injection/Speed=0.01"], "label": "discrete, Injection/Speed = 0.01"}
-QUASI_STATIC = {"sets": ["FEM/Integrator=quasi-static"] + FIXED,
+QUASI_STATIC = {"sets": ["FEM/Integrator=quasi-static", "FEM/Self friction law=regularised"] + FIXED,
                 "label": "fem, FEM/Integrator = quasi-static, fixed dynamic steps"}
 SELF_SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring"] + FIXED,
                "label": "fem, the chain's friction law at the wall and between wires, fixed steps"}
