@@ -268,7 +268,7 @@ set_tests_properties(scene.fem_quasi_static_classic_f15_jams PROPERTIES LABELS r
 set_tests_properties(scene.fem_quasi_static_classic_f25_jams PROPERTIES LABELS stress TIMEOUT 3600)
 # The Fig. 5 scene (kappa_theta 0.08, s 0.05): quasi-static Newton met a
 # point it could not pass at phi 0.097 (50 snaps in a row there) until a
-# snap where the last one was pushes on (about 2 min).
+# snap where the last one was pushes on (about 7 min).
 add_test(NAME scene.fem_quasi_static_fig5_f25_jams
          COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
                  -DSETTING=Cavity/Radius=25 -DMODEL=Model=fem
