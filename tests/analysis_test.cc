@@ -492,50 +492,129 @@ namespace
     EXPECT_GT(folded.winding_left, 0.75);
     EXPECT_GT(folded.winding_right, 0.75);
     EXPECT_EQ(folded.phase, "spiral");
-    // Two channels ask for the same sense: the coil is not a spiral there.
-    w.points = coil;
-    w.channels.push_back({{r, 0.0}, {-1.0, 0.0}});
-    EXPECT_NE(analysis::classify(w).phase, "spiral");
+    // Folded, the halves net no winding between them, but the wire is still
+    // coiled from end to end.
+    EXPECT_GT(folded.coiled_fraction, 0.95);
   }
 
-  TEST(Morphology, SpiralWhenBothHalvesWindTheSameWay)
+  TEST(Morphology, SpiralWhenMostOfTheWireWindsWithoutTurningBack)
   {
     // Each half winds 1.5 turns clockwise inwards from its inlet, and the
     // two meet on a straight piece through the centre (mid-wire): a double
-    // spiral, symmetric under a half turn. Mirrored instead, the right half
-    // winds the other way round: the classic/plastic criterion decides.
+    // spiral, symmetric under a half turn, coiled from end to end.
     const double r = 50.0, turns = 1.5;
     const int n_arm = 600, n_join = 10;
-    const auto arm = [&](const int i, const double start_angle) {
+    const auto arm = [&](const int i, const double start_angle, const double scale = 1.0) {
       const double t = static_cast<double>(i) / n_arm;
-      const double rho = r * (1.0 - 0.9 * t), theta = start_angle - 2.0 * M_PI * turns * t;
+      const double rho = scale * r * (1.0 - 0.9 * t), theta = start_angle - 2.0 * M_PI * turns * t;
       return Vec2{rho * std::cos(theta), rho * std::sin(theta)};
     };
-    for (const bool mirrored : {false, true})
-      {
-        std::vector<Vec2> p;
-        for (int i = 0; i <= n_arm; ++i)
-          p.push_back(arm(i, M_PI));
-        // From (0.1 r, 0) through the centre to (-0.1 r, 0), the centre at mid-wire.
-        for (int i = 1; i < 2 * n_join; ++i)
-          p.push_back({0.1 * r * (1.0 - static_cast<double>(i) / n_join), 0.0});
-        for (int i = n_arm; i >= 0; --i)
+    const auto classify = [&](const std::vector<Vec2> &p) {
+      return analysis::classify(shape(p, std::vector<double>(p.size(), 0.02), r));
+    };
+    std::vector<Vec2> p;
+    for (int i = 0; i <= n_arm; ++i)
+      p.push_back(arm(i, M_PI));
+    // From (0.1 r, 0) through the centre to (-0.1 r, 0), the centre at mid-wire.
+    for (int i = 1; i < 2 * n_join; ++i)
+      p.push_back({0.1 * r * (1.0 - static_cast<double>(i) / n_join), 0.0});
+    for (int i = n_arm; i >= 0; --i)
+      p.push_back(arm(i, 0.0));
+    ASSERT_EQ(p.size() % 2, 1u);
+    EXPECT_EQ(norm(p[p.size() / 2]), 0.0);
+    auto m = classify(p);
+    EXPECT_NEAR(m.winding_left, -turns, 1e-9);
+    EXPECT_NEAR(m.winding_right, -turns, 1e-9);
+    EXPECT_NEAR(m.coiled_fraction, 1.0, 1e-12);
+    EXPECT_EQ(m.phase, "spiral");
+
+    // Folded: each half winds in and back out between its own turns, so it
+    // nets little winding (the old test, 0.75 net turns per half, missed
+    // such a wire), yet the wire is coiled from end to end.
+    p.clear();
+    for (int i = 0; i <= n_arm; ++i)
+      p.push_back(arm(i, M_PI));
+    for (int i = n_arm; i >= 0; --i)
+      p.push_back(arm(i, M_PI, 0.95));
+    for (int i = 0; i <= n_arm; ++i)
+      p.push_back(arm(i, 0.0, 0.95));
+    for (int i = n_arm; i >= 0; --i)
+      p.push_back(arm(i, 0.0));
+    m = classify(p);
+    EXPECT_LT(std::abs(m.winding_left), 0.75);
+    EXPECT_LT(std::abs(m.winding_right), 0.75);
+    EXPECT_GT(m.coiled_fraction, 0.99);
+    EXPECT_EQ(m.phase, "spiral");
+
+    // A large loop round the centre that turns back on itself again and
+    // again: each half, from its inlet, advances 0.9 turns clockwise while
+    // swinging +-0.4 rad ten times. By net winding (0.75 turns per half,
+    // the same way) that was a spiral, but no stretch winds a full turn.
+    // The halves' ends, half a turn apart, are joined through the centre.
+    const auto swinging = [&](const double start) {
+      std::vector<Vec2> q;
+      for (int i = 0; i <= 2000; ++i)
+        {
+          const double t = i / 2000.0;
+          const double theta = start - 2.0 * M_PI * 0.9 * t + 0.4 * std::sin(2.0 * M_PI * 10.0 * t);
+          const double rho = r * (0.6 + 0.3 * std::cos(2.0 * M_PI * 10.0 * t));
+          q.push_back({rho * std::cos(theta), rho * std::sin(theta)});
+        }
+      return q;
+    };
+    p = swinging(M_PI);
+    const auto from_right = swinging(0.0);
+    // Joined straight through the centre, which is mid-wire.
+    const Vec2 left_end = p.back(), right_end = from_right.back();
+    for (int i = 1; i <= n_join; ++i)
+      p.push_back((1.0 - static_cast<double>(i) / n_join) * left_end);
+    for (int i = 1; i < n_join; ++i)
+      p.push_back((static_cast<double>(i) / n_join) * right_end);
+    p.insert(p.end(), from_right.rbegin(), from_right.rend());
+    ASSERT_EQ(norm(p[p.size() / 2]), 0.0);
+    m = classify(p);
+    EXPECT_NEAR(m.winding_left, -0.9, 0.01);
+    EXPECT_NEAR(m.winding_right, -0.9, 0.01);
+    EXPECT_EQ(m.coiled_fraction, 0.0);
+    EXPECT_NE(m.phase, "spiral");
+
+    // A spiral along the wall that gives way to loops: each half follows
+    // the wall 1.2 turns, then folds back and forth across a quarter of
+    // the cavity for twice that length. Each half winds more than a turn,
+    // but only a third of the wire is coiled: not a spiral.
+    p.clear();
+    const double rim = 0.95 * r, rim_turns = 1.2, rim_length = 2.0 * M_PI * rim * rim_turns;
+    const auto half = [&](const double start, const double sense) {
+      std::vector<Vec2> q;
+      const int n_rim = 400;
+      for (int i = 0; i <= n_rim; ++i)
+        {
+          const double theta = start - sense * 2.0 * M_PI * rim_turns * i / n_rim;
+          q.push_back({rim * std::cos(theta), rim * std::sin(theta)});
+        }
+      // Folds across the cavity, from 0.8 r at the rim's last angle to
+      // 0.2 r a third of a radian further on and back: the polar angle
+      // turns back at every fold.
+      const double end = start - sense * 2.0 * M_PI * rim_turns;
+      double folded_length = 0.0;
+      for (int k = 0; folded_length < 2.0 * rim_length; ++k)
+        for (int i = 1; i <= 20; ++i)
           {
-            const Vec2 q = mirrored ? Vec2{-arm(i, M_PI).x, arm(i, M_PI).y} : arm(i, 0.0);
-            p.push_back(q);
+            const double u = k % 2 ? 1.0 - i / 20.0 : i / 20.0;
+            const double theta = end - sense * u / 3.0, rho = r * (0.8 - 0.6 * u);
+            folded_length += norm(Vec2{rho * std::cos(theta), rho * std::sin(theta)} - q.back());
+            q.push_back({rho * std::cos(theta), rho * std::sin(theta)});
           }
-        ASSERT_EQ(p.size() % 2, 1u);
-        EXPECT_EQ(norm(p[p.size() / 2]), 0.0);
-        const auto m = analysis::classify(shape(p, std::vector<double>(p.size(), 0.02), r));
-        EXPECT_NEAR(m.winding_left, -turns, 1e-9);
-        EXPECT_NEAR(m.winding_right, mirrored ? turns : -turns, 1e-9);
-        if (mirrored)
-          {
-            EXPECT_NE(m.phase, "spiral");
-            EXPECT_NEAR(m.symmetry, 1.0, 1e-12);
-          }
-        else
-          EXPECT_EQ(m.phase, "spiral");
-      }
+      return q;
+    };
+    p = half(M_PI, 1.0);
+    auto right = half(0.0, 1.0);
+    p.insert(p.end(), right.rbegin(), right.rend());
+    m = classify(p);
+    EXPECT_LT(m.winding_left, -1.0);
+    EXPECT_LT(m.winding_right, -1.0);
+    EXPECT_GT(m.coiled_fraction, 0.25);
+    EXPECT_LT(m.coiled_fraction, 0.4);
+    EXPECT_NE(m.phase, "spiral");
   }
 } // namespace

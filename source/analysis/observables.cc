@@ -32,6 +32,41 @@ namespace wirefem::analysis
       return sweep / (2.0 * M_PI);
     }
 
+    /// The share of the wire's length in stretches that wind at least one
+    /// full turn round the origin without turning back: the polar angle
+    /// changes monotonically along each stretch, and a stretch ends where
+    /// it starts to change the other way (at a hairpin or a loop's far
+    /// side). A spiral, folded or not, is coiled nearly from end to end; a
+    /// packing of loops has no such stretch, though a large loop round the
+    /// centre can leave a half's net winding above a turn.
+    double coiled_fraction(const std::vector<Vec2> &p)
+    {
+      double coiled = 0.0, total = 0.0, sweep = 0.0, length = 0.0;
+      int sense = 0;
+      const auto end_stretch = [&] {
+        if (std::abs(sweep) >= 2.0 * M_PI)
+          coiled += length;
+        sweep = 0.0;
+        length = 0.0;
+      };
+      for (std::size_t k = 0; k + 1 < p.size(); ++k)
+        {
+          const Vec2 a = p[k], b = p[k + 1];
+          const bool at_origin = norm_square(a) < 1e-12 || norm_square(b) < 1e-12;
+          const double turn = at_origin ? 0.0 : std::atan2(cross(a, b), dot(a, b));
+          const int s = (turn > 0.0) - (turn < 0.0);
+          if (s != 0 && sense != 0 && s != sense)
+            end_stretch();
+          if (s != 0)
+            sense = s;
+          sweep += turn;
+          length += norm(b - a);
+          total += norm(b - a);
+        }
+      end_stretch();
+      return total > 0.0 ? coiled / total : 0.0;
+    }
+
     /// One channel: the fraction of the wire's points whose mirror image
     /// about the line through the inlet and `centre` lies within d/4 of the
     /// wire's centreline (its nodes in a grid of cells as long as its
@@ -120,7 +155,7 @@ namespace wirefem::analysis
     }
   } // namespace
 
-  Morphology classify(const core::WireState &wire, const double spiral_turns)
+  Morphology classify(const core::WireState &wire, const double spiral_fraction)
   {
     Morphology m;
     const auto &p = wire.points;
@@ -175,17 +210,14 @@ namespace wirefem::analysis
     if (one_channel)
       m.symmetry = mirror_overlap(p, wire.channels[0].inlet, centre, wire.diameter);
 
-    // One channel: both halves coiled, in either sense. Folded with the
-    // free end at the wall, the wire is a double spiral as with two
-    // channels (the halves, each followed from its end, turn the same
-    // way); coiled from the wall inwards to the free end, it turns one way
-    // along its whole length (the halves, so followed, turn opposite ways).
+    // Spiral: most of the wire winds round the centre without turning
+    // back, in either sense and whether or not it is folded (a coil wound
+    // inwards and back out between its turns nets no winding per half).
     const int mid = n / 2;
     m.winding_left = winding(p, 0, mid);
     m.winding_right = winding(p, n - 1, mid);
-    const bool spiral = std::abs(m.winding_left) >= spiral_turns &&
-                        std::abs(m.winding_right) >= spiral_turns &&
-                        (one_channel || m.winding_left * m.winding_right > 0.0);
+    m.coiled_fraction = coiled_fraction(p);
+    const bool spiral = m.coiled_fraction >= spiral_fraction;
     m.phase = spiral ? "spiral" : (m.curvature_ratio < 0.5 ? "classic" : "plastic");
     return m;
   }

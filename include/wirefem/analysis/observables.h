@@ -56,22 +56,26 @@ namespace wirefem::analysis
     double winding_left =
         0.0; ///< polar angle swept around the centre from the left inlet to mid-wire (turns)
     double winding_right = 0.0; ///< same from the right inlet (turns)
+    /// Share of the wire's length in stretches that wind at least one full
+    /// turn round the centre without turning back (polar angle monotonic).
+    double coiled_fraction = 0.0;
   };
 
-  /// Spiral when both halves of the wire wind at least `spiral_turns` around
-  /// the centre in the same sense; otherwise classic if A/B < 0.5 (the
+  /// Spiral when at least `spiral_fraction` of the wire is coiled
+  /// (Morphology::coiled_fraction); otherwise classic if A/B < 0.5 (the
   /// paper's criterion), else plastic.
-  Morphology classify(const core::WireState &wire, double spiral_turns = 0.75);
+  Morphology classify(const core::WireState &wire, double spiral_fraction = 0.5);
 
   /// The numbers of a Morphology under their summary.json / `wirefem analyze`
   /// keys, so every writer lists the same keys.
-  inline std::array<std::pair<const char *, double>, 6> morphology_numbers(const Morphology &m)
+  inline std::array<std::pair<const char *, double>, 7> morphology_numbers(const Morphology &m)
   {
     return {{{"symmetry", m.symmetry},
              {"curvature_ratio", m.curvature_ratio},
              {"inner_wire_fraction", m.inner_wire_fraction},
              {"curvature_density_ratio", m.curvature_density_ratio},
              {"winding_left", m.winding_left},
-             {"winding_right", m.winding_right}}};
+             {"winding_right", m.winding_right},
+             {"coiled_fraction", m.coiled_fraction}}};
   }
 } // namespace wirefem::analysis
