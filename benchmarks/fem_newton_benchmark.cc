@@ -9,7 +9,9 @@
 // state of each cavity, fem_factorisation compares the FEM's factorisation
 // (KLU, AMD on the graph of the nodes: `factorisation` above) with AMD on
 // the dofs, COLAMD, UMFPACK and Eigen's SparseLU (counter fill: entries of
-// the factors over the matrix's).
+// the factors over the matrix's), and with the whole solve by GMRES on the
+// LU of the tangent's band (FEM/Linear solver = band) to 1e-3 and 1e-9 of
+// the right-hand side (counter gmres_iterations).
 //
 // The states are made once by running the FEM from the start and are kept
 // in WIREFEM_FEM_STATES (default: fem-states in the working directory) as
@@ -161,7 +163,9 @@ namespace
     klu_dofs,   ///< SparseDirect with AMD on the graph of the dofs
     klu_colamd, ///< KLU with COLAMD
     umfpack,    ///< UMFPACK (multifrontal)
-    eigen       ///< Eigen's SparseLU (supernodal), COLAMD
+    eigen,      ///< Eigen's SparseLU (supernodal), COLAMD
+    band_loose, ///< SparseDirect::solve_band to 1e-3 of |b| (an inexact Newton step)
+    band_tight  ///< SparseDirect::solve_band to 1e-9 of |b|
   };
 
   void factorisation_by(benchmark::State &st, const int radius, const double phi, const Solver solver)
@@ -222,6 +226,27 @@ namespace
           umfpack_di_free_symbolic(&symbolic);
           break;
         }
+      case Solver::band_loose:
+      case Solver::band_tight:
+        {
+          // The whole solve, band LU and GMRES: it replaces factorisation
+          // and solve.
+          fem::SparseDirect lu;
+          lu.analyse(n, row_start, columns, 3);
+          const auto &r = it.residual();
+          const std::vector<double> b(r.begin(), r.end());
+          double norm = 0.0;
+          for (const double v : b)
+            norm += v * v;
+          const double tolerance = (solver == Solver::band_loose ? 1e-3 : 1e-9) * std::sqrt(norm);
+          std::vector<double> x;
+          for (auto _ : st)
+            benchmark::DoNotOptimize(lu.solve_band(values, b, x, tolerance, 60, 1));
+          const auto &s = lu.statistics();
+          st.counters["gmres_iterations"] = static_cast<double>(s.band_iterations) / s.band_solves;
+          st.counters["direct"] = static_cast<double>(s.band_refactorised);
+          break;
+        }
       case Solver::eigen:
         {
           using Matrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
@@ -263,7 +288,9 @@ int main(int argc, char **argv)
   const std::pair<Solver, const char *> solvers[] = {{Solver::klu_dofs, "klu_amd_dofs"},
                                                      {Solver::klu_colamd, "klu_colamd"},
                                                      {Solver::umfpack, "umfpack"},
-                                                     {Solver::eigen, "eigen_sparselu"}};
+                                                     {Solver::eigen, "eigen_sparselu"},
+                                                     {Solver::band_loose, "band_gmres_1e-3"},
+                                                     {Solver::band_tight, "band_gmres_1e-9"}};
   sizes.clear();
   sizes.seekg(0);
   for (int radius; sizes >> radius;)

@@ -42,6 +42,8 @@ namespace wirefem::fem
       bool factorise() { return m.factorise_K(); }
       bool solve() { return m.solve_factorised(rhs, dx); }
       unsigned int unknowns() const { return rhs.size(); }
+      /// Newton's right-hand side at the step's predictor.
+      const dealii::Vector<double> &residual() const { return rhs; }
       /// Entries of the tangent's sparsity pattern.
       std::size_t entries() const { return m.K.values().size(); }
       /// The tangent of the last factorise() as sorted rows (CSR): the

@@ -1,7 +1,9 @@
 // The KLU wrapper of the rod FEM: solutions against a known answer, the
 // refactorisation path and its fall-back to a full factorisation, a
 // singular matrix refused, and GMRES on kept factors (solve_kept): to its
-// tolerance on a nearby matrix, with a factorisation when it is far. The
+// tolerance on a nearby matrix, with a factorisation when it is far; GMRES
+// on the band's LU (solve_band): to its tolerance, in as many iterations on
+// a rod five times as long, with a direct solve when it does not get there. The
 // tangent's storage (CsrMatrix): blocks added where a dense matrix has them.
 #include <wirefem/fem/csr_matrix.h>
 #include <wirefem/fem/sparse_direct.h>
@@ -216,6 +218,57 @@ namespace
     EXPECT_LT(max_error(x, x_true), 1e-11);
     ASSERT_TRUE(lu.solve_kept(v1, b, x, 1e-12 * norm2(b), 1));
     EXPECT_EQ(lu.statistics().kept_refactorised, 2u) << "the new factors were not kept";
+  }
+
+  TEST(SparseDirect, TheBandsFactorsSolveToTheToleranceInIterationsThatDoNotGrowWithTheSize)
+  {
+    // Rod-like matrices of 300 and 1500 nodes: the band (each node with its
+    // neighbours) is factorised, the couplings of distant nodes (a fifth
+    // as many as nodes, as contacts) are left to GMRES.
+    std::vector<unsigned long> used;
+    for (const int nodes : {300, 1500})
+      {
+        std::mt19937 gen(7);
+        const auto p = rod_pattern(nodes, gen);
+        SparseDirect lu;
+        lu.analyse(p.n, p.row_start, p.columns, 3);
+        auto v = values(p, gen);
+        // Distant couplings as strong as the band's off-diagonal entries:
+        // the band alone is not the matrix.
+        for (int i = 0; i < p.n; ++i)
+          for (int k = p.row_start[i]; k < p.row_start[i + 1]; ++k)
+            if (std::abs(p.columns[k] / 3 - i / 3) > 1)
+              v[k] *= 4.0;
+        std::uniform_real_distribution<double> u(-1.0, 1.0);
+        std::vector<double> x_true(p.n), x;
+        for (auto &xi : x_true)
+          xi = u(gen);
+        const auto b = multiply(p, v, x_true);
+        for (const double relative : {1e-3, 1e-9})
+          {
+            const unsigned long before = lu.statistics().band_iterations;
+            const double tol = relative * norm2(b);
+            ASSERT_TRUE(lu.solve_band(v, b, x, tol, 60, 1)) << relative;
+            auto r = multiply(p, v, x);
+            for (int i = 0; i < p.n; ++i)
+              r[i] = b[i] - r[i];
+            EXPECT_LE(norm2(r), tol) << relative;
+            EXPECT_GT(norm2(r), 1e-6 * tol) << "far below the tolerance: was it solved directly?";
+            const unsigned long n_it = lu.statistics().band_iterations - before;
+            EXPECT_GT(n_it, 1u) << "the band alone solved it: the test has no distant couplings";
+            used.push_back(n_it);
+          }
+        EXPECT_EQ(lu.statistics().band_refactorised, 0u);
+        EXPECT_EQ(lu.statistics().factorisations + lu.statistics().refactorisations, 0u);
+        // Too few iterations for the tolerance: solved directly.
+        ASSERT_TRUE(lu.solve_band(v, b, x, 1e-12 * norm2(b), 1, 1));
+        EXPECT_EQ(lu.statistics().band_refactorised, 1u);
+        EXPECT_LT(max_error(x, x_true), 1e-11);
+      }
+    // Iterations for each tolerance: at most one more on the longer rod.
+    EXPECT_LE(used[2], used[0] + 1);
+    EXPECT_LE(used[3], used[1] + 1);
+    EXPECT_LT(used[0], used[1]);
   }
 
   TEST(SparseDirect, RefusesASingularMatrix)

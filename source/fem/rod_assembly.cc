@@ -8,8 +8,10 @@ namespace wirefem::fem
     if (tolerance <= 0.0)
       return factorise_K() && solve_factorised(rhs, x);
     lu_rhs.assign(rhs.begin(), rhs.end());
-    if (!lu.solve_kept(K.values(), lu_rhs, lu_solution, tolerance,
-                       static_cast<int>(scene.fem.krylov_iterations)))
+    const int iterations = static_cast<int>(scene.fem.krylov_iterations);
+    if (!(band_solver ? lu.solve_band(K.values(), lu_rhs, lu_solution, tolerance, iterations,
+                                      static_cast<int>(scene.fem.degree))
+                      : lu.solve_kept(K.values(), lu_rhs, lu_solution, tolerance, iterations)))
       return false;
     std::copy(lu_solution.begin(), lu_solution.end(), x.begin());
     return true;

@@ -68,8 +68,8 @@ namespace wirefem::fem
               return Outcome::not_converged;
             }
         };
-        auto outcome = attempt(m.kept_factors);
-        if (outcome == Outcome::not_converged && m.kept_factors)
+        auto outcome = attempt(m.kept_factors || m.band_solver);
+        if (outcome == Outcome::not_converged && (m.kept_factors || m.band_solver))
           {
             // Inexact linear solves may be what failed: the same step once
             // more with a factorisation per iteration, before it is cut.
@@ -442,12 +442,18 @@ namespace wirefem::fem
       out << fmt::format("steps cut for their local or energy error (FEM/Step error): {}\n",
                          impl->error_cuts);
     const auto &ls = impl->lu.statistics();
-    if (impl->kept_factors)
-      out << fmt::format("GMRES on kept factors: {} solves, {:.2f} iterations each, {} refactorised; "
-                         "{} steps retried with refactorisation\n",
-                         ls.kept_solves,
-                         ls.kept_solves > 0 ? double(ls.kept_iterations) / double(ls.kept_solves) : 0.0,
-                         ls.kept_refactorised, impl->retried_steps);
+    if (impl->kept_factors || impl->band_solver)
+      {
+        const bool band = impl->band_solver;
+        const auto solves = band ? ls.band_solves : ls.kept_solves;
+        const auto iterations = band ? ls.band_iterations : ls.kept_iterations;
+        out << fmt::format("GMRES on {}: {} solves, {:.2f} iterations each, {} {}; "
+                           "{} steps retried with refactorisation\n",
+                           band ? "the band's LU" : "kept factors", solves,
+                           solves > 0 ? double(iterations) / double(solves) : 0.0,
+                           band ? ls.band_refactorised : ls.kept_refactorised,
+                           band ? "solved directly" : "refactorised", impl->retried_steps);
+      }
     out << fmt::format(
         "linear solves: {} (patterns analysed {}, full factorisations {}, refactorisations {}, "
         "refactorisations redone for accuracy {}; factors L + U {:.1f} times the matrix's entries)\n",

@@ -249,8 +249,8 @@ namespace wirefem::fem
     SparseDirect lu;
     std::vector<double> lu_rhs, lu_solution; ///< solve_linear's scratch
     /// Solves K x = rhs; false when K is singular. With a tolerance > 0,
-    /// by GMRES on the kept factors to |rhs - K x|_2 <= tolerance
-    /// (SparseDirect::solve_kept); otherwise K is factorised.
+    /// by GMRES on the kept factors or the band's (SparseDirect::solve_kept,
+    /// solve_band) to |rhs - K x|_2 <= tolerance; otherwise K is factorised.
     bool solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x, double tolerance = 0.0);
     bool factorise_K();
     /// FEM/Predictor = constant velocity: Newton starts from u + h v.
@@ -261,8 +261,9 @@ namespace wirefem::fem
     /// round-off, where the exact last update of a direct solve is what
     /// keeps its convergence order.
     bool kept_factors = false;
-    /// Steps that failed with kept factors and were tried again with a
-    /// factorisation per iteration.
+    /// FEM/Linear solver = band, on the injection set-up (as kept_factors).
+    bool band_solver = false;
+    /// Steps that failed with GMRES and were tried again with an LU each.
     unsigned long retried_steps = 0;
     /// FEM/Newton = modified, on the injection set-up: a step's LU is
     /// reused while Newton contracts by newton_contraction or better.

@@ -331,9 +331,10 @@ namespace wirefem::fem
     inertia = integrator != scene::Integrator::quasi_static;
     quasi_static_injection = !inertia && !clamped && !capstan;
     newton_tolerance = s.fem.newton_tolerance * w.axial_stiffness;
-    kept_factors = s.fem.kept_factors && !clamped && !capstan;
+    kept_factors = s.fem.linear_solver == scene::LinearSolver::kept_factors && !clamped && !capstan;
+    band_solver = s.fem.linear_solver == scene::LinearSolver::band && !clamped && !capstan;
     // Its reused factors must come from direct solves of this step.
-    modified_newton = s.fem.modified_newton && !kept_factors && !clamped && !capstan;
+    modified_newton = s.fem.modified_newton && !kept_factors && !band_solver && !clamped && !capstan;
     newton_contraction = s.fem.newton_contraction;
     velocity_predictor = s.fem.velocity_predictor;
     overlap_growth = clamped || capstan ? 0.0 : s.fem.overlap_growth;

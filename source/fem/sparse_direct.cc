@@ -20,6 +20,15 @@ namespace wirefem::fem
     klu_common common{};
     klu_symbolic *symbolic = nullptr;
     klu_numeric *numeric = nullptr;
+    int block = 1; ///< the rows' block size of the last analyse()
+    // The band preconditioner of solve_band(): the entries of the pattern
+    // that couple blocks at most band_width apart (by rows), their positions
+    // among the pattern's values, and the band's own analysis and factors.
+    int band_width = -1;
+    std::vector<int> band_start, band_columns, band_entries;
+    std::vector<double> band_values;
+    klu_symbolic *band_symbolic = nullptr;
+    klu_numeric *band_numeric = nullptr;
     /// min |U_ii| / max |U_ii| of the last full factorisation.
     double rcond_full = 0.0;
     bool last_full = false; ///< whether the current factors are a full factorisation
@@ -37,11 +46,58 @@ namespace wirefem::fem
       if (numeric)
         klu_free_numeric(&numeric, &common);
     }
+    void clear_band()
+    {
+      if (band_numeric)
+        klu_free_numeric(&band_numeric, &common);
+      if (band_symbolic)
+        klu_free_symbolic(&band_symbolic, &common);
+      band_width = -1;
+    }
     void clear()
     {
       clear_numeric();
+      clear_band();
       if (symbolic)
         klu_free_symbolic(&symbolic, &common);
+    }
+    /// The band of the pattern (entries whose blocks are at most `width`
+    /// apart), analysed.
+    void analyse_band(const int width)
+    {
+      clear_band();
+      band_width = width;
+      band_start.assign(n + 1, 0);
+      band_columns.clear();
+      band_entries.clear();
+      for (int i = 0; i < n; ++i)
+        {
+          for (int k = row_start[i]; k < row_start[i + 1]; ++k)
+            if (std::abs(columns[k] / block - i / block) <= width)
+              {
+                band_columns.push_back(columns[k]);
+                band_entries.push_back(k);
+              }
+          band_start[i + 1] = static_cast<int>(band_columns.size());
+        }
+      band_values.assign(band_columns.size(), 0.0);
+      band_symbolic = klu_analyze(n, band_start.data(), band_columns.data(), &common);
+      if (!band_symbolic)
+        throw std::runtime_error("KLU could not analyse the band of the tangent's sparsity pattern");
+    }
+    /// Factors of the band of A (values a); false when it is singular.
+    bool factorise_band(const std::vector<double> &a)
+    {
+      for (std::size_t k = 0; k < band_entries.size(); ++k)
+        band_values[k] = a[band_entries[k]];
+      if (band_numeric && klu_refactor(band_start.data(), band_columns.data(), band_values.data(),
+                                       band_symbolic, band_numeric, &common))
+        return true;
+      if (band_numeric)
+        klu_free_numeric(&band_numeric, &common);
+      band_numeric =
+          klu_factor(band_start.data(), band_columns.data(), band_values.data(), band_symbolic, &common);
+      return band_numeric && common.status == KLU_OK;
     }
     bool full(SparseDirect::Statistics &stats)
     {
@@ -86,11 +142,13 @@ namespace wirefem::fem
       return s;
     }
 
-    /// GMRES on A (values a) from x = 0, right preconditioned by the kept
-    /// factors, with modified Gram-Schmidt and Givens rotations; true when
-    /// |b - A x|_2 <= tolerance, checked on the true residual at the end.
+    /// GMRES on A (values a) from x = 0, right preconditioned by the
+    /// factors (ps, pn), with modified Gram-Schmidt and Givens rotations;
+    /// true when |b - A x|_2 <= tolerance, checked on the true residual at
+    /// the end.
     bool gmres(const std::vector<double> &a, const std::vector<double> &b, std::vector<double> &x,
-               const double tolerance, const int m, SparseDirect::Statistics &stats)
+               const double tolerance, const int m, unsigned long &iterations, klu_symbolic *ps,
+               klu_numeric *pn)
     {
       x.assign(n, 0.0);
       const double beta = std::sqrt(dot(b.data(), b.data()));
@@ -113,7 +171,7 @@ namespace wirefem::fem
       for (int j = 0; j < m && !converged; ++j)
         {
           std::copy(v(j), v(j) + n, z(j));
-          if (!klu_tsolve(symbolic, numeric, n, 1, z(j), &common))
+          if (!klu_tsolve(ps, pn, n, 1, z(j), &common))
             return false;
           double *w = v(j + 1);
           multiply(a, z(j), w);
@@ -140,7 +198,7 @@ namespace wirefem::fem
           h(j + 1, j) = 0.0;
           rotated[j + 1] = -sines[j] * rotated[j];
           rotated[j] *= cosines[j];
-          ++stats.kept_iterations;
+          ++iterations;
           k = j + 1;
           converged = std::abs(rotated[j + 1]) <= tolerance || wn == 0.0;
           if (!converged)
@@ -191,6 +249,7 @@ namespace wirefem::fem
     auto &m = *impl;
     m.clear();
     m.n = n;
+    m.block = block;
     m.row_start = std::move(row_start);
     m.columns = std::move(columns);
     if (block > 1)
@@ -278,9 +337,27 @@ namespace wirefem::fem
     if (!m.symbolic || values.size() != m.columns.size() || static_cast<int>(b.size()) != m.n)
       throw std::logic_error("SparseDirect::solve_kept before analyse, or with values of another pattern");
     ++stats.kept_solves;
-    if (m.numeric && max_iterations > 0 && m.gmres(values, b, x, tolerance, max_iterations, stats))
+    if (m.numeric && max_iterations > 0 &&
+        m.gmres(values, b, x, tolerance, max_iterations, stats.kept_iterations, m.symbolic, m.numeric))
       return true;
     ++stats.kept_refactorised;
+    return factorise(values) && solve(b, x);
+  }
+
+  bool SparseDirect::solve_band(const std::vector<double> &values, const std::vector<double> &b,
+                                std::vector<double> &x, const double tolerance, const int max_iterations,
+                                const int width)
+  {
+    auto &m = *impl;
+    if (!m.symbolic || values.size() != m.columns.size() || static_cast<int>(b.size()) != m.n)
+      throw std::logic_error("SparseDirect::solve_band before analyse, or with values of another pattern");
+    ++stats.band_solves;
+    if (m.band_width != width)
+      m.analyse_band(width);
+    if (m.factorise_band(values) && m.gmres(values, b, x, tolerance, max_iterations, stats.band_iterations,
+                                            m.band_symbolic, m.band_numeric))
+      return true;
+    ++stats.band_refactorised;
     return factorise(values) && solve(b, x);
   }
 

@@ -95,7 +95,8 @@ namespace wirefem::scene
         }
       check(!s.contact.friction.surface_torque || s.model == ModelType::discrete, w,
             "Contact/Friction/Surface torque", "is implemented for Model = discrete only");
-      check(!s.fem.modified_newton || !s.fem.kept_factors, w, "FEM/Newton",
+      check(!s.fem.modified_newton || s.fem.linear_solver == scene::LinearSolver::refactorise, w,
+            "FEM/Newton",
             "'modified' reuses LU factors in direct solves: it needs FEM/Linear solver = refactorise");
       if (s.model == ModelType::fem && s.fem.spring_self_friction)
         {

@@ -237,5 +237,12 @@ namespace wirefem::scene
     spring_self_friction = self_friction_law == SelfFrictionLaw::spring ||
                            (self_friction_law == SelfFrictionLaw::automatic &&
                             integrator == Integrator::generalized_alpha && contact_points == 0);
+    // GMRES on kept factors solves almost exactly in a few iterations; on
+    // the band, an inexact Newton step is cheaper.
+    const bool band = linear_solver == LinearSolver::band;
+    if (linear_tolerance == 0.0)
+      linear_tolerance = band ? 1e-3 : 1e-9;
+    if (krylov_iterations == 0)
+      krylov_iterations = band ? 30 : 8;
   }
 } // namespace wirefem::scene

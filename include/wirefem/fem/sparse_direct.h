@@ -60,6 +60,17 @@ namespace wirefem::fem
     bool solve_kept(const std::vector<double> &values, const std::vector<double> &b, std::vector<double> &x,
                     double tolerance, int max_iterations);
 
+    /// Solves A x = b, A given by these values, to |b - A x|_2 <= tolerance
+    /// by GMRES (at most max_iterations) preconditioned by the LU of A's
+    /// band: the entries that couple blocks (analyse()'s) at most `width`
+    /// apart, which for the rod are its elements and leave out the contacts
+    /// between distant stretches of wire. The band's LU costs in proportion
+    /// to the size, and so do GMRES's iterations, whose number does not grow
+    /// with the size. When GMRES does not get there, factorises A and
+    /// solves as solve() does.
+    bool solve_band(const std::vector<double> &values, const std::vector<double> &b, std::vector<double> &x,
+                    double tolerance, int max_iterations, int width);
+
     struct Statistics
     {
       unsigned long analyses = 0;
@@ -70,6 +81,9 @@ namespace wirefem::fem
       unsigned long kept_solves = 0;       ///< solve_kept() calls
       unsigned long kept_iterations = 0;   ///< GMRES iterations of solve_kept()
       unsigned long kept_refactorised = 0; ///< solve_kept() calls that factorised
+      unsigned long band_solves = 0;       ///< solve_band() calls
+      unsigned long band_iterations = 0;   ///< GMRES iterations of solve_band()
+      unsigned long band_refactorised = 0; ///< solve_band() calls that factorised A
       /// Entries of the matrix and of its factors L + U, summed over the
       /// full factorisations (their ratio is the mean fill).
       double matrix_entries = 0.0, factor_entries = 0.0;

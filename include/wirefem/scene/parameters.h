@@ -251,6 +251,14 @@ namespace wirefem::scene
     spring       ///< the discrete model's tangential springs
   };
 
+  /// FEM/Linear solver.
+  enum class LinearSolver
+  {
+    refactorise,  ///< a sparse LU of every tangent
+    kept_factors, ///< GMRES preconditioned by the LU of an earlier tangent
+    band          ///< GMRES preconditioned by the LU of the tangent's band
+  };
+
   struct FemParameters
   {
     Formulation formulation = Formulation::reissner;
@@ -264,14 +272,14 @@ namespace wirefem::scene
     double minimum_time_step = 1e-7;
     double newton_tolerance = 1e-8; ///< on the residual norm relative to the force scale
     unsigned int maximum_iterations = 15;
-    bool velocity_predictor = true;     ///< Newton starts from u + h v, not u + h v + h^2 a / 2
-    double overlap_growth = 0.0;        ///< d per step before a converged step is cut; 0: off
-    double step_error = 0.01;           ///< d: local error a step may make (0: off)
-    double step_energy_error = 0.03;    ///< with step_error: energy error of two steps / their energy in
-    bool kept_factors = false;          ///< GMRES on kept LU factors instead of an LU per iteration
-    double linear_tolerance = 1e-9;     ///< GMRES's, relative to the Newton residual
+    bool velocity_predictor = true;  ///< Newton starts from u + h v, not u + h v + h^2 a / 2
+    double overlap_growth = 0.0;     ///< d per step before a converged step is cut; 0: off
+    double step_error = 0.01;        ///< d: local error a step may make (0: off)
+    double step_energy_error = 0.03; ///< with step_error: energy error of two steps / their energy in
+    LinearSolver linear_solver = LinearSolver::refactorise;
+    double linear_tolerance = 0.0;      ///< GMRES's, relative to the Newton residual; 0: by the solver
     double linear_floor = 1e-3;         ///< GMRES's, relative to the Newton tolerance
-    unsigned int krylov_iterations = 8; ///< GMRES iterations before a refactorisation
+    unsigned int krylov_iterations = 0; ///< GMRES iterations before an LU; 0: by the solver
     bool modified_newton = false;       ///< reuse a step's first LU while Newton contracts fast
     double newton_contraction = 0.1;    ///< modified Newton: largest residual ratio on kept factors
     bool spring_friction = true;        ///< wall friction by the discrete model's law (FEM/Friction law)
@@ -290,7 +298,8 @@ namespace wirefem::scene
 
     /// The defaults that come from other sections or keys: the shear
     /// stiffness from EA, the dashpots from the discrete model's, the self
-    /// friction law from the integrator and the contact points.
+    /// friction law from the integrator and the contact points, GMRES's
+    /// tolerance and iterations from the linear solver.
     void resolve(double axial_stiffness, const DiscreteParameters &discrete);
   };
 
