@@ -264,6 +264,11 @@ namespace
       }
     st.counters["unknowns"] = n;
     st.counters["entries"] = entries;
+    {
+      fem::SparseDirect blocks;
+      blocks.analyse(n, row_start, columns, 3);
+      st.counters["lu_work_per_entry"] = blocks.lu_work() / entries;
+    }
     st.counters["fill"] = factor_entries / entries;
     st.counters["per_unknown"] =
         benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);

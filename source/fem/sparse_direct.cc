@@ -20,7 +20,8 @@ namespace wirefem::fem
     klu_common common{};
     klu_symbolic *symbolic = nullptr;
     klu_numeric *numeric = nullptr;
-    int block = 1; ///< the rows' block size of the last analyse()
+    int block = 1;      ///< the rows' block size of the last analyse()
+    double lu_work = 0; ///< multiply-subtract pairs of an LU of the pattern (estimate)
     // The band preconditioner of solve_band(): the entries of the pattern
     // that couple blocks at most band_width apart (by rows), their positions
     // among the pattern's values, and the band's own analysis and factors.
@@ -275,8 +276,11 @@ namespace wirefem::fem
                                 block_columns.end());
             block_start[bi + 1] = static_cast<int>(block_columns.size());
           }
-        if (amd_order(nb, block_start.data(), block_columns.data(), order.data(), nullptr, nullptr) != AMD_OK)
+        double info[AMD_INFO];
+        if (amd_order(nb, block_start.data(), block_columns.data(), order.data(), nullptr, info) != AMD_OK)
           throw std::runtime_error("AMD could not order the tangent's block pattern");
+        // Each pair of the blocks' LU is a product of block x block blocks.
+        m.lu_work = info[AMD_NMULTSUBS_LU] * block * block * block;
         std::vector<int> permutation(n);
         for (int k = 0; k < nb; ++k)
           for (int c = 0; c < block; ++c)
@@ -288,6 +292,8 @@ namespace wirefem::fem
       m.symbolic = klu_analyze(n, m.row_start.data(), m.columns.data(), &m.common);
     if (!m.symbolic)
       throw std::runtime_error("KLU could not analyse the tangent's sparsity pattern");
+    if (block <= 1)
+      m.lu_work = m.symbolic->est_flops / 2.0;
     ++stats.analyses;
   }
 
@@ -304,6 +310,11 @@ namespace wirefem::fem
   const std::vector<int> &SparseDirect::columns() const
   {
     return impl->columns;
+  }
+
+  double SparseDirect::lu_work() const
+  {
+    return impl->lu_work;
   }
 
   bool SparseDirect::factorise(const std::vector<double> &values)

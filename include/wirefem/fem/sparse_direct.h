@@ -41,6 +41,10 @@ namespace wirefem::fem
     /// entries) and the column of each entry, sorted within rows.
     const std::vector<int> &row_start() const;
     const std::vector<int> &columns() const;
+    /// The multiply-subtract pairs an LU of the last analyse()'s pattern
+    /// takes, as its ordering estimates them (with blocks: AMD's count on
+    /// the blocks' graph times block^3).
+    double lu_work() const;
 
     /// Factorises the matrix with these values (one per entry of the
     /// pattern). Returns false when it is singular.
