@@ -271,6 +271,41 @@ namespace
     EXPECT_LT(used[0], used[1]);
   }
 
+  TEST(SparseDirect, TheLUWorkEstimateGrowsWithTheCouplingsOfDistantNodes)
+  {
+    // A chain of node blocks has an LU without fill: the same work per
+    // entry at any length. Couplings between distant nodes (contacts)
+    // cost more per entry, and more on the longer rod.
+    const auto work_per_entry = [](const int nodes, const bool contacts) {
+      std::mt19937 gen(11);
+      auto p = rod_pattern(nodes, gen);
+      if (!contacts)
+        {
+          // Only the band: entries within one block of the diagonal's.
+          Pattern band;
+          band.n = p.n;
+          band.row_start.push_back(0);
+          for (int i = 0; i < p.n; ++i)
+            {
+              for (int k = p.row_start[i]; k < p.row_start[i + 1]; ++k)
+                if (std::abs(p.columns[k] / 3 - i / 3) <= 1)
+                  band.columns.push_back(p.columns[k]);
+              band.row_start.push_back(static_cast<int>(band.columns.size()));
+            }
+          p = band;
+        }
+      SparseDirect lu;
+      lu.analyse(p.n, p.row_start, p.columns, 3);
+      return lu.lu_work() / static_cast<double>(p.columns.size());
+    };
+    const double chain = work_per_entry(300, false);
+    EXPECT_GT(chain, 0.0);
+    EXPECT_NEAR(work_per_entry(1500, false), chain, 0.01 * chain);
+    const double contacts = work_per_entry(300, true);
+    EXPECT_GT(contacts, 2.0 * chain);
+    EXPECT_GT(work_per_entry(1500, true), 1.5 * contacts);
+  }
+
   TEST(SparseDirect, RefusesASingularMatrix)
   {
     const std::vector<int> row_start{0, 2, 4}, columns{0, 1, 0, 1};

@@ -255,14 +255,14 @@ namespace wirefem::fem
     bool factorise_K();
     /// FEM/Predictor = constant velocity: Newton starts from u + h v.
     bool velocity_predictor = false;
-    /// FEM/Linear solver = kept factors, on the injection set-up. The clamp
-    /// and capstan loadings refactorise every tangent: their systems are
-    /// small, and the slender cantilever's Newton tolerance is near
-    /// round-off, where the exact last update of a direct solve is what
-    /// keeps its convergence order.
+    /// FEM/Linear solver = kept factors, on the injection set-up (the clamp
+    /// and capstan refactorise: small systems, and only a direct solve's
+    /// exact last update keeps the slender cantilever's order).
     bool kept_factors = false;
-    /// FEM/Linear solver = band, on the injection set-up (as kept_factors).
+    /// FEM/Linear solver = band or auto (as kept_factors); auto: only where
+    /// an LU costs over band_work pairs per tangent entry (AMD's estimate).
     bool band_solver = false;
+    double band_work = 0.0;
     /// Steps that failed with GMRES and were tried again with an LU each.
     unsigned long retried_steps = 0;
     /// FEM/Newton = modified, on the injection set-up: a step's LU is

@@ -2,6 +2,8 @@
 
 #include <wirefem/scene/cavity_setup.h>
 
+#include <tuple>
+
 namespace wirefem::fem
 {
   RodModel::Impl::Impl(const scene::RodScene &s)
@@ -320,6 +322,20 @@ namespace wirefem::fem
     return std::min({0.025, 0.025 * diameter / s.injection.speed, contact_step});
   }
 
+  namespace
+  {
+    /// kept_factors, band_solver and band_work for FEM/Linear solver.
+    std::tuple<bool, bool, double> linear_solver_choice(const scene::LinearSolver solver)
+    {
+      // auto: the band where its GMRES and an LU cost the same, the band's
+      // inexact steps taking a fifth more Newton iterations
+      // (docs/notes/2026-12-06-band-solver.md).
+      return {solver == scene::LinearSolver::kept_factors,
+              solver == scene::LinearSolver::band || solver == scene::LinearSolver::automatic,
+              solver == scene::LinearSolver::automatic ? 25.0 : 0.0};
+    }
+  } // namespace
+
   void RodModel::Impl::build_integrator(const scene::RodScene &s)
   {
     const auto &w = s.wire;
@@ -331,8 +347,8 @@ namespace wirefem::fem
     inertia = integrator != scene::Integrator::quasi_static;
     quasi_static_injection = !inertia && !clamped && !capstan;
     newton_tolerance = s.fem.newton_tolerance * w.axial_stiffness;
-    kept_factors = s.fem.linear_solver == scene::LinearSolver::kept_factors && !clamped && !capstan;
-    band_solver = s.fem.linear_solver == scene::LinearSolver::band && !clamped && !capstan;
+    std::tie(kept_factors, band_solver, band_work) =
+        linear_solver_choice(clamped || capstan ? scene::LinearSolver::refactorise : s.fem.linear_solver);
     // Its reused factors must come from direct solves of this step.
     modified_newton = s.fem.modified_newton && !kept_factors && !band_solver && !clamped && !capstan;
     newton_contraction = s.fem.newton_contraction;

@@ -239,7 +239,7 @@ namespace wirefem::scene
                             integrator == Integrator::generalized_alpha && contact_points == 0);
     // GMRES on kept factors solves almost exactly in a few iterations; on
     // the band, an inexact Newton step is cheaper.
-    const bool band = linear_solver == LinearSolver::band;
+    const bool band = linear_solver == LinearSolver::band || linear_solver == LinearSolver::automatic;
     if (linear_tolerance == 0.0)
       linear_tolerance = band ? 1e-3 : 1e-9;
     if (krylov_iterations == 0)

@@ -256,7 +256,8 @@ namespace wirefem::scene
   {
     refactorise,  ///< a sparse LU of every tangent
     kept_factors, ///< GMRES preconditioned by the LU of an earlier tangent
-    band          ///< GMRES preconditioned by the LU of the tangent's band
+    band,         ///< GMRES preconditioned by the LU of the tangent's band
+    automatic     ///< the band where an LU of the tangent is dear, an LU elsewhere
   };
 
   struct FemParameters
