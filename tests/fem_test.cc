@@ -1406,6 +1406,18 @@ namespace
     EXPECT_EQ(fem::RodModelProbe::linear_statistics(automatic).band_solves, 0u);
   }
 
+  TEST(RodModel, QuasiStaticStepsRefactoriseWithTheBandSolver)
+  {
+    // Without the mass term the band is a poor preconditioner: quasi-static
+    // steps refactorise whatever FEM/Linear solver says (auto as well; on
+    // this loose packing auto would take the LU anyway).
+    fem::RodModel m(fem_scene({"FEM/Integrator=quasi-static", "FEM/Linear solver=band"}));
+    while (m.injected_length() < 30.0)
+      m.step();
+    EXPECT_EQ(fem::RodModelProbe::linear_statistics(m).band_solves, 0u);
+    EXPECT_GT(fem::RodModelProbe::linear_statistics(m).refactorisations, 100u);
+  }
+
   TEST(RodModel, ModifiedNewtonReachesTheSameWireWithFewerFactorisations)
   {
     // Modified Newton reuses each step's first LU while the residual

@@ -325,14 +325,19 @@ namespace wirefem::fem
   namespace
   {
     /// kept_factors, band_solver and band_work for FEM/Linear solver.
-    std::tuple<bool, bool, double> linear_solver_choice(const scene::LinearSolver solver)
+    /// The band only with generalized-alpha: without the mass term it is a
+    /// poor preconditioner (quasi-static classic scene at f = 15: 27 GMRES
+    /// iterations a solve, most solves ending in an LU, 3 times the time).
+    std::tuple<bool, bool, double> linear_solver_choice(const scene::LinearSolver solver,
+                                                        const scene::Integrator integrator)
     {
+      const bool dynamic = integrator == scene::Integrator::generalized_alpha;
+      const bool automatic = dynamic && solver == scene::LinearSolver::automatic;
       // auto: the band where its GMRES and an LU cost the same, the band's
       // inexact steps taking a fifth more Newton iterations
       // (docs/notes/2026-12-06-band-solver.md).
       return {solver == scene::LinearSolver::kept_factors,
-              solver == scene::LinearSolver::band || solver == scene::LinearSolver::automatic,
-              solver == scene::LinearSolver::automatic ? 25.0 : 0.0};
+              automatic || (dynamic && solver == scene::LinearSolver::band), automatic ? 25.0 : 0.0};
     }
   } // namespace
 
@@ -347,8 +352,8 @@ namespace wirefem::fem
     inertia = integrator != scene::Integrator::quasi_static;
     quasi_static_injection = !inertia && !clamped && !capstan;
     newton_tolerance = s.fem.newton_tolerance * w.axial_stiffness;
-    std::tie(kept_factors, band_solver, band_work) =
-        linear_solver_choice(clamped || capstan ? scene::LinearSolver::refactorise : s.fem.linear_solver);
+    std::tie(kept_factors, band_solver, band_work) = linear_solver_choice(
+        clamped || capstan ? scene::LinearSolver::refactorise : s.fem.linear_solver, integrator);
     // Its reused factors must come from direct solves of this step.
     modified_newton = s.fem.modified_newton && !kept_factors && !band_solver && !clamped && !capstan;
     newton_contraction = s.fem.newton_contraction;
