@@ -98,6 +98,8 @@ namespace wirefem::scene
       check(!s.fem.modified_newton || s.fem.linear_solver == scene::LinearSolver::refactorise, w,
             "FEM/Newton",
             "'modified' reuses LU factors in direct solves: it needs FEM/Linear solver = refactorise");
+      check(s.fem.linear_tolerance < 1.0, w, "FEM/Linear tolerance",
+            "must be below 1 (GMRES would stop before it starts; 0: chosen by FEM/Linear solver)");
       if (s.model == ModelType::fem && s.fem.spring_self_friction)
         {
           check(s.fem.integrator != Integrator::explicit_lumped, w, "FEM/Self friction law",
