@@ -17,18 +17,22 @@ namespace wirefem::analysis
 
   namespace
   {
+    // The polar angle turned from a to b about the origin (radians); 0
+    // when either is at the origin.
+    double polar_turn(const Vec2 a, const Vec2 b)
+    {
+      if (norm_square(a) < 1e-12 || norm_square(b) < 1e-12)
+        return 0.0;
+      return std::atan2(cross(a, b), dot(a, b));
+    }
+
     // Polar angle swept (turns) along points[from] -> points[to].
     double winding(const std::vector<Vec2> &p, const int from, const int to)
     {
       double sweep = 0.0;
       const int step = to > from ? 1 : -1;
       for (int k = from; k != to; k += step)
-        {
-          const Vec2 a = p[k], b = p[k + step];
-          if (norm_square(a) < 1e-12 || norm_square(b) < 1e-12)
-            continue;
-          sweep += std::atan2(cross(a, b), dot(a, b));
-        }
+        sweep += polar_turn(p[k], p[k + step]);
       return sweep / (2.0 * M_PI);
     }
 
@@ -51,17 +55,15 @@ namespace wirefem::analysis
       };
       for (std::size_t k = 0; k + 1 < p.size(); ++k)
         {
-          const Vec2 a = p[k], b = p[k + 1];
-          const bool at_origin = norm_square(a) < 1e-12 || norm_square(b) < 1e-12;
-          const double turn = at_origin ? 0.0 : std::atan2(cross(a, b), dot(a, b));
+          const double turn = polar_turn(p[k], p[k + 1]), ds = norm(p[k + 1] - p[k]);
           const int s = (turn > 0.0) - (turn < 0.0);
           if (s != 0 && sense != 0 && s != sense)
             end_stretch();
           if (s != 0)
             sense = s;
           sweep += turn;
-          length += norm(b - a);
-          total += norm(b - a);
+          length += ds;
+          total += ds;
         }
       end_stretch();
       return total > 0.0 ? coiled / total : 0.0;

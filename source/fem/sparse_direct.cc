@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <stdexcept>
+#include <string>
 
 namespace wirefem::fem
 {
@@ -99,6 +100,14 @@ namespace wirefem::fem
       band_numeric =
           klu_factor(band_start.data(), band_columns.data(), band_values.data(), band_symbolic, &common);
       return band_numeric && common.status == KLU_OK;
+    }
+    /// Throws unless a matrix of the analysed pattern (values) and a
+    /// right-hand side of its size can be solved (caller: for the message).
+    void require(const std::vector<double> &values, const std::vector<double> &b, const char *caller) const
+    {
+      if (!symbolic || values.size() != columns.size() || static_cast<int>(b.size()) != n)
+        throw std::logic_error(std::string("SparseDirect::") + caller +
+                               " before analyse, or with values of another pattern");
     }
     bool full(SparseDirect::Statistics &stats)
     {
@@ -345,8 +354,7 @@ namespace wirefem::fem
                                 std::vector<double> &x, const double tolerance, const int max_iterations)
   {
     auto &m = *impl;
-    if (!m.symbolic || values.size() != m.columns.size() || static_cast<int>(b.size()) != m.n)
-      throw std::logic_error("SparseDirect::solve_kept before analyse, or with values of another pattern");
+    m.require(values, b, "solve_kept");
     ++stats.kept_solves;
     if (m.numeric && max_iterations > 0 &&
         m.gmres(values, b, x, tolerance, max_iterations, stats.kept_iterations, m.symbolic, m.numeric))
@@ -360,8 +368,7 @@ namespace wirefem::fem
                                 const int width)
   {
     auto &m = *impl;
-    if (!m.symbolic || values.size() != m.columns.size() || static_cast<int>(b.size()) != m.n)
-      throw std::logic_error("SparseDirect::solve_band before analyse, or with values of another pattern");
+    m.require(values, b, "solve_band");
     ++stats.band_solves;
     if (m.band_width != width)
       m.analyse_band(width);
