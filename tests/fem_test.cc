@@ -1425,7 +1425,7 @@ namespace
     // tolerance (1e-8 EA), so wherever both reach the same time their wires
     // agree far below a step's motion (0.025 d), and the modified run
     // factorises less than once per iteration.
-    fem::RodModel full(contact_scene("FEM/Newton=full"));
+    fem::RodModel full(contact_scene("FEM/Newton=full", "FEM/Linear solver=refactorise"));
     fem::RodModel modified(contact_scene("FEM/Newton=modified"));
     const double worst = at_equal_times(full, modified, 30.0);
     // Each converged state is within the Newton tolerance (1e-5 in force)
@@ -1451,7 +1451,7 @@ namespace
     // state: the two runs are the same run, bit for bit. (This tests the
     // fall-back to a tangent after a slow iteration, and the line search
     // after a fresh tangent; no solve reuses factors here.)
-    fem::RodModel full(contact_scene("FEM/Newton=full"));
+    fem::RodModel full(contact_scene("FEM/Newton=full", "FEM/Linear solver=refactorise"));
     auto sc = contact_scene("FEM/Newton=modified");
     sc.fem.newton_contraction = 1e-300;
     fem::RodModel modified(sc);

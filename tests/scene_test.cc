@@ -180,6 +180,28 @@ namespace
     EXPECT_TRUE(springs({"FEM/Integrator=quasi-static", "FEM/Self friction law=spring"}));
   }
 
+  TEST(Scene, TheLinearSolverIsAutoUnlessModifiedNewtonKeepsItsOwnFactors)
+  {
+    // FEM/Linear solver = auto, the default, chooses per tangent; modified
+    // Newton reuses LU factors of its own, so auto is then refactorise. A
+    // named solver is taken as it is, and GMRES's defaults follow the
+    // solver.
+    const auto fem = [](std::vector<std::string> o) {
+      o.insert(o.begin(), "Model=fem");
+      return read_scene("", o).fem;
+    };
+    using wirefem::scene::LinearSolver;
+    EXPECT_EQ(fem({}).linear_solver, LinearSolver::automatic);
+    EXPECT_EQ(fem({}).linear_tolerance, 1e-3);
+    EXPECT_EQ(fem({}).krylov_iterations, 30u);
+    EXPECT_EQ(fem({"FEM/Newton=modified"}).linear_solver, LinearSolver::refactorise);
+    EXPECT_EQ(fem({"FEM/Linear solver=band"}).linear_solver, LinearSolver::band);
+    EXPECT_EQ(fem({"FEM/Linear solver=kept factors"}).linear_tolerance, 1e-9);
+    EXPECT_EQ(fem({"FEM/Linear solver=kept factors"}).krylov_iterations, 8u);
+    EXPECT_EQ(fem({"FEM/Newton=modified", "FEM/Linear solver=refactorise"}).linear_solver,
+              LinearSolver::refactorise);
+  }
+
   TEST(Scene, PolygonVerticesComeFromAFileBesideTheScene)
   {
     const auto dir = std::filesystem::temp_directory_path() / "wirefem_vertex_file";

@@ -95,9 +95,9 @@ namespace wirefem::scene
         }
       check(!s.contact.friction.surface_torque || s.model == ModelType::discrete, w,
             "Contact/Friction/Surface torque", "is implemented for Model = discrete only");
-      check(!s.fem.modified_newton || s.fem.linear_solver == scene::LinearSolver::refactorise, w,
-            "FEM/Newton",
-            "'modified' reuses LU factors in direct solves: it needs FEM/Linear solver = refactorise");
+      check(
+          !s.fem.modified_newton || s.fem.linear_solver == scene::LinearSolver::refactorise, w, "FEM/Newton",
+          "'modified' reuses LU factors in direct solves: it needs FEM/Linear solver = refactorise or auto");
       check(s.fem.linear_tolerance < 1.0, w, "FEM/Linear tolerance",
             "must be below 1 (GMRES would stop before it starts; 0: chosen by FEM/Linear solver)");
       if (s.model == ModelType::fem && s.fem.spring_self_friction)

@@ -237,6 +237,9 @@ namespace wirefem::scene
     spring_self_friction = self_friction_law == SelfFrictionLaw::spring ||
                            (self_friction_law == SelfFrictionLaw::automatic &&
                             integrator == Integrator::generalized_alpha && contact_points == 0);
+    // Modified Newton keeps LU factors of its own: auto leaves them to it.
+    if (modified_newton && linear_solver == LinearSolver::automatic)
+      linear_solver = LinearSolver::refactorise;
     // GMRES on kept factors solves almost exactly in a few iterations; on
     // the band, an inexact Newton step is cheaper.
     const bool band = linear_solver == LinearSolver::band || linear_solver == LinearSolver::automatic;

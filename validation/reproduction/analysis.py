@@ -53,10 +53,12 @@ GRID = 0.001  # phi spacing of the averaged force
 # The studies: a scene with a model, cavity radius and seeds, and keys of
 # the model ("sets", named in the report by "label"); run directories
 # OUTDIR/<study>_s<seed>.
-# The FEM studies made before FEM/Self friction law = auto and FEM/Step
-# error = 0.01 became the defaults name the keys they were made with: the
-# regularised law between wires and fixed steps.
-FIXED = ["FEM/Step error=0"]
+# The FEM studies made before FEM/Self friction law = auto, FEM/Step
+# error = 0.01 and FEM/Linear solver = auto became the defaults name the
+# keys they were made with: the regularised law between wires, fixed steps
+# and an LU of every tangent.
+FIXED = ["FEM/Step error=0", "FEM/Linear solver=refactorise"]
+LU = ["FEM/Linear solver=refactorise"]
 REGULARISED = {"sets": ["FEM/Friction law=regularised", "FEM/Self friction law=regularised"] + FIXED,
                "label": "fem, FEM/Friction law = regularised, fixed steps"}
 SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=regularised"] + FIXED,
@@ -68,10 +70,10 @@ QUASI_STATIC = {"sets": ["FEM/Integrator=quasi-static", "FEM/Self friction law=r
 SELF_SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring"] + FIXED,
                "label": "fem, the chain's friction law at the wall and between wires, fixed steps"}
 # ... and the step set by its error estimates (FEM/Step error, with the
-# energy estimate at its default): the FEM's defaults.
-FAST = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring", "FEM/Step error=1e-2"],
-        "label": "fem, the chain's friction law at the wall and between wires, FEM/Step error = 1e-2 "
-                 "(the defaults)"}
+# energy estimate at its default): the FEM's defaults, but for the LU.
+FAST = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring", "FEM/Step error=1e-2"] + LU,
+        "label": "fem, the chain's friction law at the wall and between wires, FEM/Step error = 1e-2, "
+                 "FEM/Linear solver = refactorise"}
 STUDIES = {
     "fig5": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
     "elastic": {"scene": "elastic", "model": "discrete", "radius": 25, "seeds": range(1, 10)},

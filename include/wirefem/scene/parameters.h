@@ -277,7 +277,7 @@ namespace wirefem::scene
     double overlap_growth = 0.0;     ///< d per step before a converged step is cut; 0: off
     double step_error = 0.01;        ///< d: local error a step may make (0: off)
     double step_energy_error = 0.03; ///< with step_error: energy error of two steps / their energy in
-    LinearSolver linear_solver = LinearSolver::refactorise;
+    LinearSolver linear_solver = LinearSolver::automatic;
     double linear_tolerance = 0.0;      ///< GMRES's, relative to the Newton residual; 0: by the solver
     double linear_floor = 1e-3;         ///< GMRES's, relative to the Newton tolerance
     unsigned int krylov_iterations = 0; ///< GMRES iterations before an LU; 0: by the solver
