@@ -74,6 +74,8 @@ SELF_SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring
 FAST = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring", "FEM/Step error=1e-2"] + LU,
         "label": "fem, the chain's friction law at the wall and between wires, FEM/Step error = 1e-2, "
                  "FEM/Linear solver = refactorise"}
+# The FEM as a scene gets it, with no keys named.
+DEFAULTS = {"sets": [], "label": "fem, the defaults (FEM/Linear solver = auto)"}
 STUDIES = {
     "fig5": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
     "elastic": {"scene": "elastic", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
@@ -98,6 +100,8 @@ STUDIES = {
                                 **SELF_SPRING},
     "fig5_fem_fast": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **FAST},
     "elastic_fem_fast": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4), **FAST},
+    "fig5_fem_auto": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **DEFAULTS},
+    "elastic_fem_auto": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4), **DEFAULTS},
     # The FEM's quasi-static limit itself: no inertia, steps by injected
     # length, snaps taken by dynamics with the injection paused.
     "fig5_fem_qs": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **QUASI_STATIC},

@@ -19,7 +19,8 @@ The studies (analysis.STUDIES; run directories OUTDIR/<study>_s<seed>):
   elastic scene under the spring law about 20); the elastic classic scene
   at f = 50 (3 seeds, about 4 minutes a run); the FEM with the chain's
   friction law between wires too, with and without FEM/Step error =
-  1e-2 (the step set by its error estimates);
+  1e-2 (the step set by its error estimates), and with the defaults
+  (FEM/Linear solver = auto; 1-3 minutes a run);
 - both classic scenes in the quasi-static limit (Injection/Speed = 0.01,
   9 seeds each; about 25 and 40 minutes a run), and from the FEM with
   FEM/Integrator = quasi-static (3 seeds each);
