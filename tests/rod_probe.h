@@ -44,6 +44,9 @@ namespace wirefem::fem
       unsigned int unknowns() const { return rhs.size(); }
       /// Newton's right-hand side at the step's predictor.
       const dealii::Vector<double> &residual() const { return rhs; }
+      /// Touching node-segment pairs between stretches of wire at the
+      /// last assembly.
+      std::size_t self_contacts() const { return e.pairs.size(); }
       /// Entries of the tangent's sparsity pattern.
       std::size_t entries() const { return m.K.values().size(); }
       /// The tangent of the last factorise() as sorted rows (CSR): the
