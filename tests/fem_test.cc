@@ -946,10 +946,6 @@ namespace
     return worst;
   }
 
-  /// Two runs of the same scene stepped to injected length `until`, the
-  /// one behind first (they may cut different steps): the largest distance
-  /// between their wires wherever they reach the same time (expected at
-  /// more than 500 times, with contacts in the runs).
   /// Steps both runs until a has injected `until`, expecting the same
   /// steps: the largest distance between their wires after any step (d),
   /// infinite when they took different steps.
@@ -970,6 +966,10 @@ namespace
     return worst;
   }
 
+  /// Two runs of the same scene stepped to injected length `until`, the
+  /// one behind first (they may cut different steps): the largest distance
+  /// between their wires wherever they reach the same time (expected at
+  /// more than 500 times, with contacts in the runs).
   double at_equal_times(fem::RodModel &a, fem::RodModel &b, const double until)
   {
     int compared = 0;

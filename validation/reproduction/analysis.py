@@ -57,8 +57,8 @@ GRID = 0.001  # phi spacing of the averaged force
 # error = 0.01 and FEM/Linear solver = auto became the defaults name the
 # keys they were made with: the regularised law between wires, fixed steps
 # and an LU of every tangent.
-FIXED = ["FEM/Step error=0", "FEM/Linear solver=refactorise"]
 LU = ["FEM/Linear solver=refactorise"]
+FIXED = ["FEM/Step error=0"] + LU
 REGULARISED = {"sets": ["FEM/Friction law=regularised", "FEM/Self friction law=regularised"] + FIXED,
                "label": "fem, FEM/Friction law = regularised, fixed steps"}
 SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=regularised"] + FIXED,
