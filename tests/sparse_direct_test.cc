@@ -3,7 +3,9 @@
 // singular matrix refused, and GMRES on kept factors (solve_kept): to its
 // tolerance on a nearby matrix, with a factorisation when it is far; GMRES
 // on the band's LU (solve_band): to its tolerance, in as many iterations on
-// a rod five times as long, with a direct solve when it does not get there. The
+// a rod five times as long, with a direct solve when it does not get there;
+// the band's own LU (no pivoting) exact on a band of each element degree,
+// and a zero pivot of it handed to a direct solve. The
 // tangent's storage (CsrMatrix): blocks added where a dense matrix has them.
 #include <wirefem/fem/csr_matrix.h>
 #include <wirefem/fem/sparse_direct.h>
@@ -269,6 +271,76 @@ namespace
     EXPECT_LE(used[2], used[0] + 1);
     EXPECT_LE(used[3], used[1] + 1);
     EXPECT_LT(used[0], used[1]);
+  }
+
+  std::vector<double> random_vector(const int n, std::mt19937 &gen)
+  {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<double> x(n);
+    for (auto &xi : x)
+      xi = u(gen);
+    return x;
+  }
+
+  /// Node blocks of 3 coupled to the blocks at most `width` apart, and
+  /// nothing else: a matrix that is its own band.
+  Pattern band_pattern(const int nodes, const int width)
+  {
+    Pattern p;
+    p.n = 3 * nodes;
+    p.row_start.push_back(0);
+    for (int i = 0; i < p.n; ++i)
+      {
+        for (int j = std::max(0, 3 * (i / 3 - width)); j < std::min(p.n, 3 * (i / 3 + width + 1)); ++j)
+          p.columns.push_back(j);
+        p.row_start.push_back(static_cast<int>(p.columns.size()));
+      }
+    return p;
+  }
+
+  TEST(SparseDirect, TheBandsOwnLUSolvesABandOfEachElementDegreeInOneIteration)
+  {
+    // Degrees 1-3 (widths 1-3 blocks) have loops of fixed length, 4 the
+    // general one: each solves its own band exactly, so GMRES stops after
+    // its first iteration with the residual at rounding level.
+    for (const int width : {1, 2, 3, 4})
+      {
+        std::mt19937 gen(17 + width);
+        const auto p = band_pattern(250, width);
+        const auto v = values(p, gen);
+        const auto x_true = random_vector(p.n, gen);
+        const auto b = multiply(p, v, x_true);
+        std::vector<double> x;
+        SparseDirect lu;
+        lu.analyse(p.n, p.row_start, p.columns, 3);
+        ASSERT_TRUE(lu.solve_band(v, b, x, 1e-12 * norm2(b), 5, width)) << width;
+        EXPECT_EQ(lu.statistics().band_iterations, 1u) << width;
+        EXPECT_EQ(lu.statistics().band_refactorised, 0u) << width;
+        EXPECT_LT(max_error(x, x_true), 1e-12) << width;
+      }
+  }
+
+  TEST(SparseDirect, AZeroPivotOfTheBandIsSolvedDirectly)
+  {
+    // The first node's block swaps its first two dofs ([[0 1] [1 0]]):
+    // the matrix is regular, but an LU without pivoting meets a zero
+    // first pivot. The band's LU reports it and the matrix is solved by a
+    // factorisation with pivoting.
+    std::mt19937 gen(5);
+    const auto p = band_pattern(50, 1);
+    auto v = values(p, gen);
+    for (int i = 0; i < 2; ++i)
+      for (int k = p.row_start[i]; k < p.row_start[i + 1]; ++k)
+        v[k] = p.columns[k] == 1 - i ? 20.0 : 0.0;
+    const auto x_true = random_vector(p.n, gen);
+    const auto b = multiply(p, v, x_true);
+    std::vector<double> x;
+    SparseDirect lu;
+    lu.analyse(p.n, p.row_start, p.columns, 3);
+    ASSERT_TRUE(lu.solve_band(v, b, x, 1e-9 * norm2(b), 5, 1));
+    EXPECT_EQ(lu.statistics().band_iterations, 0u);
+    EXPECT_EQ(lu.statistics().band_refactorised, 1u);
+    EXPECT_LT(max_error(x, x_true), 1e-12);
   }
 
   TEST(SparseDirect, TheLUWorkEstimateGrowsWithTheCouplingsOfDistantNodes)

@@ -1,5 +1,7 @@
 #include <wirefem/fem/sparse_direct.h>
 
+#include "band_lu.h"
+
 #include <amd.h>
 #include <klu.h>
 
@@ -24,13 +26,15 @@ namespace wirefem::fem
     int block = 1;      ///< the rows' block size of the last analyse()
     double lu_work = 0; ///< multiply-subtract pairs of an LU of the pattern (estimate)
     // The band preconditioner of solve_band(): the entries of the pattern
-    // that couple blocks at most band_width apart (by rows), their positions
-    // among the pattern's values, and the band's own analysis and factors.
+    // that couple blocks at most band_width apart, their positions among
+    // the pattern's values and in the band's storage, and its factors.
     int band_width = -1;
-    std::vector<int> band_start, band_columns, band_entries;
-    std::vector<double> band_values;
-    klu_symbolic *band_symbolic = nullptr;
-    klu_numeric *band_numeric = nullptr;
+    std::vector<int> band_entries;
+    std::vector<std::size_t> band_slots;
+    BandLU band;
+    /// The rest of the pattern (the contacts), by rows: its entries'
+    /// positions among the values.
+    std::vector<int> rest_start, rest_entries;
     /// min |U_ii| / max |U_ii| of the last full factorisation.
     double rcond_full = 0.0;
     bool last_full = false; ///< whether the current factors are a full factorisation
@@ -48,14 +52,7 @@ namespace wirefem::fem
       if (numeric)
         klu_free_numeric(&numeric, &common);
     }
-    void clear_band()
-    {
-      if (band_numeric)
-        klu_free_numeric(&band_numeric, &common);
-      if (band_symbolic)
-        klu_free_symbolic(&band_symbolic, &common);
-      band_width = -1;
-    }
+    void clear_band() { band_width = -1; }
     void clear()
     {
       clear_numeric();
@@ -63,43 +60,48 @@ namespace wirefem::fem
       if (symbolic)
         klu_free_symbolic(&symbolic, &common);
     }
-    /// The band of the pattern (entries whose blocks are at most `width`
-    /// apart), analysed.
+    /// The band of the pattern: the entries whose blocks are at most
+    /// `width` apart, within block (width + 1) - 1 of the diagonal.
     void analyse_band(const int width)
     {
-      clear_band();
       band_width = width;
-      band_start.assign(n + 1, 0);
-      band_columns.clear();
+      band.reinit(n, block * (width + 1) - 1);
       band_entries.clear();
+      band_slots.clear();
+      rest_start.assign(1, 0);
+      rest_entries.clear();
       for (int i = 0; i < n; ++i)
         {
           for (int k = row_start[i]; k < row_start[i + 1]; ++k)
             if (std::abs(columns[k] / block - i / block) <= width)
               {
-                band_columns.push_back(columns[k]);
                 band_entries.push_back(k);
+                band_slots.push_back(band.slot(i, columns[k]));
               }
-          band_start[i + 1] = static_cast<int>(band_columns.size());
+            else
+              rest_entries.push_back(k);
+          rest_start.push_back(static_cast<int>(rest_entries.size()));
         }
-      band_values.assign(band_columns.size(), 0.0);
-      band_symbolic = klu_analyze(n, band_start.data(), band_columns.data(), &common);
-      if (!band_symbolic)
-        throw std::runtime_error("KLU could not analyse the band of the tangent's sparsity pattern");
     }
-    /// Factors of the band of A (values a); false when it is singular.
+    /// y = A x, A given by values a: the band's product, and the rest.
+    void multiply_by_parts(const std::vector<double> &a, const double *x, double *y)
+    {
+      band.multiply(x, y);
+      for (int i = 0; i < n; ++i)
+        {
+          double s = 0.0;
+          for (int q = rest_start[i]; q < rest_start[i + 1]; ++q)
+            s += a[rest_entries[q]] * x[columns[rest_entries[q]]];
+          y[i] += s;
+        }
+    }
+    /// Factors of the band of A (values a); false when a pivot vanishes.
     bool factorise_band(const std::vector<double> &a)
     {
+      band.zero();
       for (std::size_t k = 0; k < band_entries.size(); ++k)
-        band_values[k] = a[band_entries[k]];
-      if (band_numeric && klu_refactor(band_start.data(), band_columns.data(), band_values.data(),
-                                       band_symbolic, band_numeric, &common))
-        return true;
-      if (band_numeric)
-        klu_free_numeric(&band_numeric, &common);
-      band_numeric =
-          klu_factor(band_start.data(), band_columns.data(), band_values.data(), band_symbolic, &common);
-      return band_numeric && common.status == KLU_OK;
+        band.entry(band_slots[k]) = a[band_entries[k]];
+      return band.factorise();
     }
     /// Throws unless a matrix of the analysed pattern (values) and a
     /// right-hand side of its size can be solved (caller: for the message).
@@ -152,13 +154,14 @@ namespace wirefem::fem
       return s;
     }
 
-    /// GMRES on A (values a) from x = 0, right preconditioned by the
-    /// factors (ps, pn), with modified Gram-Schmidt and Givens rotations;
-    /// true when |b - A x|_2 <= tolerance, checked on the true residual at
-    /// the end.
-    bool gmres(const std::vector<double> &a, const std::vector<double> &b, std::vector<double> &x,
-               const double tolerance, const int m, unsigned long &iterations, klu_symbolic *ps,
-               klu_numeric *pn)
+    /// GMRES on A (values a) from x = 0, right preconditioned by
+    /// `precondition` (z -> M^{-1} z in place; false when it fails), with
+    /// modified Gram-Schmidt and Givens rotations; true when
+    /// |b - A x|_2 <= tolerance, checked on the true residual at the end.
+    template <typename Multiply, typename Precondition>
+    bool gmres(const Multiply &multiply, const std::vector<double> &b, std::vector<double> &x,
+               const double tolerance, const int m, unsigned long &iterations,
+               const Precondition &precondition)
     {
       x.assign(n, 0.0);
       const double beta = std::sqrt(dot(b.data(), b.data()));
@@ -181,10 +184,10 @@ namespace wirefem::fem
       for (int j = 0; j < m && !converged; ++j)
         {
           std::copy(v(j), v(j) + n, z(j));
-          if (!klu_tsolve(ps, pn, n, 1, z(j), &common))
+          if (!precondition(z(j)))
             return false;
           double *w = v(j + 1);
-          multiply(a, z(j), w);
+          multiply(z(j), w);
           for (int i = 0; i <= j; ++i)
             {
               h(i, j) = dot(w, v(i));
@@ -215,12 +218,13 @@ namespace wirefem::fem
             for (int l = 0; l < n; ++l)
               w[l] /= wn;
         }
-      return converged && solution(a, b, x, tolerance, k);
+      return converged && solution(multiply, b, x, tolerance, k);
     }
 
     /// x = sum y_j z_j with y = H^{-1} g from GMRES's first k iterations;
     /// true when the true residual |b - A x|_2 is within the tolerance.
-    bool solution(const std::vector<double> &a, const std::vector<double> &b, std::vector<double> &x,
+    template <typename Multiply>
+    bool solution(const Multiply &multiply, const std::vector<double> &b, std::vector<double> &x,
                   const double tolerance, const int k)
     {
       std::vector<double> &y = cosines; // no longer needed
@@ -236,7 +240,7 @@ namespace wirefem::fem
           x[l] += y[j] * z(j)[l];
       // The true residual, in the first basis vector's storage.
       double *res = v(0);
-      multiply(a, x.data(), res);
+      multiply(x.data(), res);
       double rr = 0.0;
       for (int i = 0; i < n; ++i)
         {
@@ -357,7 +361,9 @@ namespace wirefem::fem
     m.require(values, b, "solve_kept");
     ++stats.kept_solves;
     if (m.numeric && max_iterations > 0 &&
-        m.gmres(values, b, x, tolerance, max_iterations, stats.kept_iterations, m.symbolic, m.numeric))
+        m.gmres([&](const double *z, double *y) { m.multiply(values, z, y); }, b, x, tolerance,
+                max_iterations, stats.kept_iterations,
+                [&m](double *z) { return klu_tsolve(m.symbolic, m.numeric, m.n, 1, z, &m.common) != 0; }))
       return true;
     ++stats.kept_refactorised;
     return factorise(values) && solve(b, x);
@@ -372,8 +378,13 @@ namespace wirefem::fem
     ++stats.band_solves;
     if (m.band_width != width)
       m.analyse_band(width);
-    if (m.factorise_band(values) && m.gmres(values, b, x, tolerance, max_iterations, stats.band_iterations,
-                                            m.band_symbolic, m.band_numeric))
+    if (m.factorise_band(values) &&
+        m.gmres([&](const double *z, double *y) { m.multiply_by_parts(values, z, y); }, b, x, tolerance,
+                max_iterations, stats.band_iterations,
+                [&m](double *z) {
+                  m.band.solve(z);
+                  return true;
+                }))
       return true;
     ++stats.band_refactorised;
     return factorise(values) && solve(b, x);

@@ -68,10 +68,11 @@ namespace wirefem::fem
     /// by GMRES (at most max_iterations) preconditioned by the LU of A's
     /// band: the entries that couple blocks (analyse()'s) at most `width`
     /// apart, which for the rod are its elements and leave out the contacts
-    /// between distant stretches of wire. The band's LU costs in proportion
-    /// to the size, and so do GMRES's iterations, whose number does not grow
-    /// with the size. When GMRES does not get there, factorises A and
-    /// solves as solve() does.
+    /// between distant stretches of wire. The band's LU (dense band
+    /// storage, no pivoting: source/fem/band_lu.h) costs in proportion to
+    /// the size, and so do GMRES's iterations, whose number does not grow
+    /// with the size. When the band meets a vanishing pivot or GMRES does
+    /// not get there, factorises A and solves as solve() does.
     bool solve_band(const std::vector<double> &values, const std::vector<double> &b, std::vector<double> &x,
                     double tolerance, int max_iterations, int width);
 
