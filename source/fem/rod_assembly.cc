@@ -5,8 +5,7 @@ namespace wirefem::fem
   bool RodModel::Impl::solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x,
                                     const double tolerance)
   {
-    const bool dear_lu = lu.lu_work() > band_work * static_cast<double>(K.values().size());
-    if (tolerance <= 0.0 || (band_solver && !dear_lu))
+    if (tolerance <= 0.0)
       return factorise_K() && solve_factorised(rhs, x);
     lu_rhs.assign(rhs.begin(), rhs.end());
     const int iterations = static_cast<int>(scene.fem.krylov_iterations);

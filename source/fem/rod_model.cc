@@ -433,6 +433,8 @@ namespace wirefem::fem
   {
     impl->timer.print_summary(out);
     out << fmt::format("Newton step cuts: {}\n", impl->cuts);
+    out << fmt::format("Newton updates assembled without a tangent, likely to converge: {} ({} did not)\n",
+                       impl->tangents_skipped, impl->tangents_missed);
     if (impl->quasi_static_injection)
       out << fmt::format("quasi-static snaps taken by dynamics: {} ({} pushing first; {} dynamic steps)\n",
                          impl->snaps, impl->pushes, impl->dynamic_steps);

@@ -238,31 +238,25 @@ namespace wirefem::fem
 
     contact::BroadPhase broad;
     int exclusion = 1;
-    /// The tangent, in the sorted rows the LU reads: assembly adds into
-    /// the values that are factorised.
+    /// The tangent, in the sorted rows the LU reads (assembly adds into the values factorised).
     CsrMatrix K;
-    /// For each cell, the position in K's values of each entry of its
-    /// element matrix (n_local^2, row major; -1 outside the free range),
-    /// found when the pattern is built.
+    /// Per cell, the position in K's values of each entry of its element matrix
+    /// (n_local^2, row major; -1 outside the free range), found with the pattern.
     std::vector<int> cell_position;
     /// K's LU (KLU): analysed once per pattern, refactorised per iteration.
     SparseDirect lu;
     std::vector<double> lu_rhs, lu_solution; ///< solve_linear's scratch
-    /// Solves K x = rhs; false when K is singular. With a tolerance > 0,
-    /// by GMRES on the kept factors or the band's (SparseDirect::solve_kept,
-    /// solve_band) to |rhs - K x|_2 <= tolerance; otherwise K is factorised.
+    /// Solves K x = rhs; false when K is singular. With a tolerance > 0, by GMRES on the kept factors or
+    /// the band's (SparseDirect::solve_kept, solve_band) to |rhs - K x|_2 <= tolerance; else an LU.
     bool solve_linear(const dealii::Vector<double> &rhs, dealii::Vector<double> &x, double tolerance = 0.0);
     bool factorise_K();
     /// FEM/Predictor = constant velocity: Newton starts from u + h v.
     bool velocity_predictor = false;
-    /// FEM/Linear solver = kept factors, on the injection set-up (the clamp
-    /// and capstan refactorise: small systems, and only a direct solve's
-    /// exact last update keeps the slender cantilever's order).
+    /// FEM/Linear solver = kept factors, on the injection set-up (the clamp and capstan refactorise:
+    /// small systems, and only a direct solve's exact last update keeps the slender cantilever's order).
     bool kept_factors = false;
-    /// FEM/Linear solver = band or auto (as kept_factors); auto: only where
-    /// an LU costs over band_work pairs per tangent entry (AMD's estimate).
+    /// FEM/Linear solver = band or auto (as kept_factors).
     bool band_solver = false;
-    double band_work = 0.0;
     /// Steps that failed with GMRES and were tried again with an LU each.
     unsigned long retried_steps = 0;
     /// FEM/Newton = modified, on the injection set-up: a step's LU is
@@ -532,9 +526,15 @@ namespace wirefem::fem
     std::vector<Vec2> node_positions(const dealii::Vector<double> &x) const;
     /// Moves x.u1 by the Newton correction dx (with backtracking when
     /// line_search is on); e holds the evaluation at the new x.u1 with its
-    /// tangent in K. Returns its residual norm.
+    /// tangent in K (none when it converged where likely_converges() said
+    /// so). Returns its residual norm.
     double newton_update(const AssemblyRequest &rq, StepState &x, const dealii::Vector<double> &dx,
                          double res, Evaluation &e, Evaluation &trial);
+    /// Whether the update from residual `res` likely converges (the last
+    /// contraction repeated): newton_update then assembles the residual
+    /// alone first. Not on the clamp's path (its stability test needs K).
+    bool likely_converges(double res) const;
+    unsigned long tangents_skipped = 0, tangents_missed = 0; ///< such updates; those not converged
     /// x.u1 = u_start + lambda dx on the free dofs, and its kinematics.
     void move_along(const AssemblyRequest &rq, StepState &x, const dealii::Vector<double> &u_start,
                     const dealii::Vector<double> &dx, double lambda) const;

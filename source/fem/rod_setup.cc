@@ -324,20 +324,18 @@ namespace wirefem::fem
 
   namespace
   {
-    /// kept_factors, band_solver and band_work for FEM/Linear solver.
-    /// The band only with generalized-alpha: without the mass term it is a
+    /// kept_factors and band_solver for FEM/Linear solver. The band (and
+    /// auto) only with generalized-alpha: without the mass term it is a
     /// poor preconditioner (quasi-static classic scene at f = 15: 27 GMRES
     /// iterations a solve, most solves ending in an LU, 3 times the time).
-    std::tuple<bool, bool, double> linear_solver_choice(const scene::LinearSolver solver,
-                                                        const scene::Integrator integrator)
+    /// With its own LU the band costs less than an LU of the tangent at any
+    /// size (docs/notes/2026-12-06-band-lu.md), so auto is the band there.
+    std::pair<bool, bool> linear_solver_choice(const scene::LinearSolver solver,
+                                               const scene::Integrator integrator)
     {
       const bool dynamic = integrator == scene::Integrator::generalized_alpha;
-      const bool automatic = dynamic && solver == scene::LinearSolver::automatic;
-      // auto: the band where its GMRES and an LU cost the same, the band's
-      // inexact steps taking a fifth more Newton iterations
-      // (docs/notes/2026-12-06-band-solver.md).
       return {solver == scene::LinearSolver::kept_factors,
-              automatic || (dynamic && solver == scene::LinearSolver::band), automatic ? 25.0 : 0.0};
+              dynamic && (solver == scene::LinearSolver::automatic || solver == scene::LinearSolver::band)};
     }
   } // namespace
 
@@ -352,7 +350,7 @@ namespace wirefem::fem
     inertia = integrator != scene::Integrator::quasi_static;
     quasi_static_injection = !inertia && !clamped && !capstan;
     newton_tolerance = s.fem.newton_tolerance * w.axial_stiffness;
-    std::tie(kept_factors, band_solver, band_work) = linear_solver_choice(
+    std::tie(kept_factors, band_solver) = linear_solver_choice(
         clamped || capstan ? scene::LinearSolver::refactorise : s.fem.linear_solver, integrator);
     // Its reused factors must come from direct solves of this step.
     modified_newton = s.fem.modified_newton && !kept_factors && !band_solver && !clamped && !capstan;
