@@ -182,10 +182,10 @@ namespace
 
   TEST(Scene, TheLinearSolverIsAutoUnlessModifiedNewtonKeepsItsOwnFactors)
   {
-    // FEM/Linear solver = auto, the default, chooses per tangent; modified
-    // Newton reuses LU factors of its own, so auto is then refactorise. A
-    // named solver is taken as it is, and GMRES's defaults follow the
-    // solver.
+    // FEM/Linear solver = auto, the default, is the band with
+    // generalized-alpha; modified Newton reuses LU factors of its own, so
+    // auto is then refactorise. A named solver is taken as it is, and
+    // GMRES's defaults follow the solver.
     const auto fem = [](std::vector<std::string> o) {
       o.insert(o.begin(), "Model=fem");
       return read_scene("", o).fem;

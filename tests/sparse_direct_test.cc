@@ -350,22 +350,8 @@ namespace
     // cost more per entry, and more on the longer rod.
     const auto work_per_entry = [](const int nodes, const bool contacts) {
       std::mt19937 gen(11);
-      auto p = rod_pattern(nodes, gen);
-      if (!contacts)
-        {
-          // Only the band: entries within one block of the diagonal's.
-          Pattern band;
-          band.n = p.n;
-          band.row_start.push_back(0);
-          for (int i = 0; i < p.n; ++i)
-            {
-              for (int k = p.row_start[i]; k < p.row_start[i + 1]; ++k)
-                if (std::abs(p.columns[k] / 3 - i / 3) <= 1)
-                  band.columns.push_back(p.columns[k]);
-              band.row_start.push_back(static_cast<int>(band.columns.size()));
-            }
-          p = band;
-        }
+      // Without contacts, only the band: entries within one block of the diagonal's.
+      const auto p = contacts ? rod_pattern(nodes, gen) : band_pattern(nodes, 1);
       SparseDirect lu;
       lu.analyse(p.n, p.row_start, p.columns, 3);
       return lu.lu_work() / static_cast<double>(p.columns.size());

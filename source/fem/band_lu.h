@@ -28,7 +28,6 @@ namespace wirefem::fem
       half = half_width;
       width = 2 * half + 1;
       band.assign(static_cast<std::size_t>(n) * width, 0.0);
-      lu = band;
       row_max.assign(n, 0.0);
       inverse_pivot.assign(n, 0.0);
       padded.assign(static_cast<std::size_t>(n) + 2 * half, 0.0);

@@ -257,7 +257,7 @@ namespace wirefem::scene
     refactorise,  ///< a sparse LU of every tangent
     kept_factors, ///< GMRES preconditioned by the LU of an earlier tangent
     band,         ///< GMRES preconditioned by the LU of the tangent's band
-    automatic     ///< the band where an LU of the tangent is dear, an LU elsewhere
+    automatic     ///< the band with generalized-alpha, an LU elsewhere and with modified Newton
   };
 
   struct FemParameters
