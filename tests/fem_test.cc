@@ -705,6 +705,51 @@ namespace
     EXPECT_LT(interior, 380) << "too few clamped closest points";
   }
 
+  TEST(FemContact, APointContactWithoutItsTangentHasTheSameForces)
+  {
+    // want_tangent = false (a residual-only evaluation) leaves the tangent
+    // zero and every other output as it is with the tangent, bit for bit:
+    // random points against a segment and its next node, with friction.
+    std::mt19937 gen(29);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), speed(-0.05, 0.05);
+    int touching = 0, vertex = 0;
+    for (int trial = 0; trial < 400; ++trial)
+      {
+        const std::array<Vec2, 3> x{{{u(gen), u(gen)}, {u(gen), u(gen)}, {u(gen), u(gen)}}};
+        const std::array<Vec2, 3> v0{
+            {{speed(gen), speed(gen)}, {speed(gen), speed(gen)}, {speed(gen), speed(gen)}}};
+        fem::ContactContribution with, without;
+        without.want_tangent = false;
+        double t_with, t_without, f_with, f_without;
+        const bool touch =
+            fem::point_stretch_contact(settings(true), 0.5, x, v0, 40.0, true, with, t_with, f_with, 0.3);
+        ASSERT_EQ(touch, fem::point_stretch_contact(settings(true), 0.5, x, v0, 40.0, true, without,
+                                                    t_without, f_without, 0.3));
+        if (!touch)
+          continue;
+        ++touching;
+        vertex += f_with > 0.0;
+        EXPECT_FALSE(without.want_tangent);
+        EXPECT_EQ(t_with, t_without);
+        EXPECT_EQ(f_with, f_without);
+        EXPECT_EQ(with.residual, without.residual);
+        EXPECT_EQ(with.friction_residual, without.friction_residual);
+        EXPECT_EQ(with.energy, without.energy);
+        EXPECT_EQ(with.normal_force, without.normal_force);
+        EXPECT_EQ(with.overlap, without.overlap);
+        EXPECT_TRUE(
+            std::all_of(without.tangent.begin(), without.tangent.end(), [](double v) { return v == 0; }));
+        // (At t = 1 the next node's contact takes the segment's back: zero.)
+        if (t_with < 1.0)
+          {
+            EXPECT_TRUE(
+                std::any_of(with.tangent.begin(), with.tangent.end(), [](double v) { return v != 0; }));
+          }
+      }
+    EXPECT_GT(touching, 50);
+    EXPECT_GT(vertex, 5) << "too few contacts where the next node presses too";
+  }
+
   TEST(FemContact, PointForceIsTheGradientAndTangentTheDerivative)
   {
     const std::array<Vec2, 2> x{{{0.1, 0.2}, {0.7, 0.9}}};

@@ -279,8 +279,10 @@ namespace wirefem::fem
     /// Clears `out` for a contact of n points; returns its number of dofs.
     int start_contribution(ContactContribution &out, const int n)
     {
+      const bool want_tangent = out.want_tangent;
       out = ContactContribution{};
       out.n_points = n;
+      out.want_tangent = want_tangent;
       return 2 * n;
     }
 
@@ -475,6 +477,10 @@ namespace wirefem::fem
             out.friction_residual[2 * m + a] = rf;
             out.residual[2 * m + a] = -share[m] * fn * comp(nn, a) + rf;
           }
+      out.normal_force = fn;
+      out.energy = 0.5 * k * g * g;
+      if (!out.want_tangent)
+        return true;
       for (int j = 0; j < n; ++j)
         for (int b = 0; b < 2; ++b)
           {
@@ -504,8 +510,6 @@ namespace wirefem::fem
                   out.tangent[(2 * m + a) * nd + col] = normal + friction_scale * friction;
                 }
           }
-      out.normal_force = fn;
-      out.energy = 0.5 * k * g * g;
       return true;
     }
   } // namespace
@@ -542,6 +546,7 @@ namespace wirefem::fem
     if (!point_segment_contact(s, weight, x, v0, c, out, t, friction_scale))
       return false;
     ContactContribution vc;
+    vc.want_tangent = out.want_tangent;
     if (!next_presses ||
         !point_point_contact(s, weight, {{x[0], x[2]}}, {{v0[0], v0[2]}}, c, vc, friction_scale))
       return true;
@@ -553,7 +558,7 @@ namespace wirefem::fem
           const int i = 2 * ids[m] + cm;
           out.residual[i] -= vc.residual[2 * m + cm];
           out.friction_residual[i] -= vc.friction_residual[2 * m + cm];
-          for (int n = 0; n < 2; ++n)
+          for (int n = 0; n < 2 && out.want_tangent; ++n)
             for (int cn = 0; cn < 2; ++cn)
               out.tangent[i * 6 + 2 * ids[n] + cn] -= vc.tangent[(2 * m + cm) * 4 + 2 * n + cn];
         }

@@ -448,7 +448,6 @@ namespace wirefem::fem
   void RodModel::Impl::assemble_self_contact(const AssemblyRequest &rq, Evaluation &e)
   {
     const auto &u1 = *rq.u;
-    const int first = rq.first, last = rq.last;
     ContactContribution cc;
     if (scene.contact.self_contact && !segment_points.empty())
       assemble_self_contact_along(rq, e);
@@ -457,22 +456,21 @@ namespace wirefem::fem
         // Node-to-segment contact, both ways: the first node of each
         // candidate segment against the other segment. Two wires side by
         // side are then pressed apart by a force that moves smoothly along
-        // them (segment-to-segment closest points jump between end points
-        // of nearly parallel segments, which stalls Newton). Each direction
-        // carries half the penalty, so two parallel wires feel k_n per unit
-        // length. A node pressed by a stretch of wire feels it once, with a
-        // force continuously differentiable in every position
-        // (point_stretch_contact: every segment within reach presses it,
-        // less the nodes shared by two of them).
-        const int first_segment = first - 1, last_segment = past(last) - 2; // nodes [first - 1, past(last))
+        // them (segment-to-segment closest points jump between end points of
+        // nearly parallel segments, which stalls Newton). Each direction carries
+        // half the penalty, so two parallel wires feel k_n per unit length. A
+        // node pressed by a stretch of wire feels it once, with a force
+        // continuously differentiable in every position (point_stretch_contact:
+        // every segment within reach presses it, less the nodes shared by two).
+        const int first_segment = rq.first - 1,
+                  last_segment = past(rq.last) - 2; // nodes [first - 1, past(last))
         const double fs = rq.friction_scale();
         const auto at = [&](const int k) { return position(u1, k); };
         const auto allowed = [&](const int node, const int s) {
           return s >= first_segment && s <= last_segment && std::abs(s - node) > exclusion;
         };
-        // With one channel the wire's last node, its free tip, begins no
-        // segment: it presses the other segment of each pair that holds
-        // the last segment, as a third way.
+        // With one channel the wire's free tip begins no segment: it presses the
+        // other segment of each pair that holds the last segment, as a third way.
         const int tip = channels.pushes(Side::right) ? -1 : static_cast<int>(n_nodes) - 1;
         // The spring law (FEM/Self friction law): the pairs press without
         // friction; each node's friction acts once per stretch, on the
@@ -480,45 +478,51 @@ namespace wirefem::fem
         const bool spring = self_spring && rq.step > 0.0;
         ContactSettings pressing = self_settings;
         pressing.friction = pressing.friction && !spring;
+        cc.want_tangent = rq.want_tangent;
         for (const auto &pr : broad.candidates())
-          for (const int way : {0, 1, 2, 3})
-            {
-              const bool a_on_b = way == 0 || way == 2;
-              if (way >= 2 && (a_on_b ? pr.i : pr.j) + 1 != tip)
-                continue;
-              const int node = (a_on_b ? pr.i : pr.j) + (way >= 2 ? 1 : 0), seg = a_on_b ? pr.j : pr.i;
-              const std::array<Vec2, 3> x{{at(node), at(seg), at(seg + 1)}};
-              const std::array<Vec2, 3> w0{{rq.velocity0(node), rq.velocity0(seg), rq.velocity0(seg + 1)}};
-              double tc, fv;
-              const bool touch =
-                  point_stretch_contact(pressing, 0.5 * node_weight(node), x, w0, rq.friction_c_vel(),
-                                        allowed(node, seg + 1), cc, tc, fv, fs);
-              e.max_overlap = std::max(e.max_overlap, cc.overlap);
-              if (!touch)
-                continue;
-              add_contact(rq, cc, {node, seg, seg + 1}, e);
-              if (!spring)
-                e.friction_damping =
-                    std::max(e.friction_damping, friction_damping(self_settings, cc.normal_force));
-              e.node_contact_force[node] += cc.normal_force - fv;
-              e.node_contact_force[seg] += (1.0 - tc) * cc.normal_force;
-              e.node_contact_force[seg + 1] += tc * cc.normal_force - fv;
-              // The contact network lists the nearest segment of each
-              // stretch, as the discrete model's.
-              if (!contact::nearest_of_stretch(x[0], seg,
-                                               contact::closest_on_segment(x[0], x[1], x[2]).distance2, at,
-                                               [&](const int s) { return allowed(node, s); }))
-                continue;
-              if (spring)
-                self_spring_friction(rq, node, seg, e);
-              // (The tip is the end, s = 1, of the last segment.)
-              const int own = way >= 2 ? node - 1 : node;
-              const double at_own = way >= 2 ? 1.0 : 0.0;
-              if (a_on_b)
-                e.pairs.push_back({own, seg, at_own, tc, cc.normal_force});
-              else
-                e.pairs.push_back({seg, own, tc, at_own, cc.normal_force});
-            }
+          {
+            // Boxes a diameter apart: no node of either segment touches the other.
+            if (contact::box_gap(at(pr.i), at(pr.i + 1), at(pr.j), at(pr.j + 1)) >= self_settings.diameter)
+              continue;
+            for (const int way : {0, 1, 2, 3})
+              {
+                const bool a_on_b = way == 0 || way == 2;
+                if (way >= 2 && (a_on_b ? pr.i : pr.j) + 1 != tip)
+                  continue;
+                const int node = (a_on_b ? pr.i : pr.j) + (way >= 2 ? 1 : 0), seg = a_on_b ? pr.j : pr.i;
+                const std::array<Vec2, 3> x{{at(node), at(seg), at(seg + 1)}};
+                const std::array<Vec2, 3> w0{{rq.velocity0(node), rq.velocity0(seg), rq.velocity0(seg + 1)}};
+                double tc, fv;
+                const bool touch =
+                    point_stretch_contact(pressing, 0.5 * node_weight(node), x, w0, rq.friction_c_vel(),
+                                          allowed(node, seg + 1), cc, tc, fv, fs);
+                e.max_overlap = std::max(e.max_overlap, cc.overlap);
+                if (!touch)
+                  continue;
+                add_contact(rq, cc, {node, seg, seg + 1}, e);
+                if (!spring)
+                  e.friction_damping =
+                      std::max(e.friction_damping, friction_damping(self_settings, cc.normal_force));
+                e.node_contact_force[node] += cc.normal_force - fv;
+                e.node_contact_force[seg] += (1.0 - tc) * cc.normal_force;
+                e.node_contact_force[seg + 1] += tc * cc.normal_force - fv;
+                // The contact network lists the nearest segment of each
+                // stretch, as the discrete model's.
+                if (!contact::nearest_of_stretch(x[0], seg,
+                                                 contact::closest_on_segment(x[0], x[1], x[2]).distance2, at,
+                                                 [&](const int s) { return allowed(node, s); }))
+                  continue;
+                if (spring)
+                  self_spring_friction(rq, node, seg, e);
+                // (The tip is the end, s = 1, of the last segment.)
+                const int own = way >= 2 ? node - 1 : node;
+                const double at_own = way >= 2 ? 1.0 : 0.0;
+                if (a_on_b)
+                  e.pairs.push_back({own, seg, at_own, tc, cc.normal_force});
+                else
+                  e.pairs.push_back({seg, own, tc, at_own, cc.normal_force});
+              }
+          }
       }
   }
 } // namespace wirefem::fem

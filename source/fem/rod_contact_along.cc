@@ -167,6 +167,7 @@ namespace wirefem::fem
       return s >= first_segment && s <= last_segment && std::abs(s - a) > exclusion;
     };
     ContactContribution cc;
+    cc.want_tangent = rq.want_tangent;
     for (const auto &pr : broad.candidates())
       for (const bool a_on_b : {true, false})
         {

@@ -32,9 +32,11 @@ namespace wirefem::fem
     std::vector<int> band_entries;
     std::vector<std::size_t> band_slots;
     BandLU band;
-    /// The rest of the pattern (the contacts), by rows: its entries'
-    /// positions among the values.
-    std::vector<int> rest_start, rest_entries;
+    /// The rest of the pattern (the contacts): the rows that have some,
+    /// where each row's entries start (one more), their columns and
+    /// positions among the values, and (factorise_band) their values.
+    std::vector<int> rest_rows, rest_start, rest_columns, rest_entries;
+    std::vector<double> rest_values;
     /// min |U_ii| / max |U_ii| of the last full factorisation.
     double rcond_full = 0.0;
     bool last_full = false; ///< whether the current factors are a full factorisation
@@ -68,7 +70,9 @@ namespace wirefem::fem
       band.reinit(n, block * (width + 1) - 1);
       band_entries.clear();
       band_slots.clear();
+      rest_rows.clear();
       rest_start.assign(1, 0);
+      rest_columns.clear();
       rest_entries.clear();
       for (int i = 0; i < n; ++i)
         {
@@ -79,28 +83,40 @@ namespace wirefem::fem
                 band_slots.push_back(band.slot(i, columns[k]));
               }
             else
-              rest_entries.push_back(k);
-          rest_start.push_back(static_cast<int>(rest_entries.size()));
+              {
+                rest_columns.push_back(columns[k]);
+                rest_entries.push_back(k);
+              }
+          if (static_cast<int>(rest_entries.size()) > rest_start.back())
+            {
+              rest_rows.push_back(i);
+              rest_start.push_back(static_cast<int>(rest_entries.size()));
+            }
         }
+      rest_values.resize(rest_entries.size());
     }
-    /// y = A x, A given by values a: the band's product, and the rest.
-    void multiply_by_parts(const std::vector<double> &a, const double *x, double *y)
+    /// y = A x, A the values of the last factorise_band(): the band's
+    /// product, and the rest.
+    void multiply_by_parts(const double *x, double *y)
     {
       band.multiply(x, y);
-      for (int i = 0; i < n; ++i)
+      for (std::size_t r = 0; r < rest_rows.size(); ++r)
         {
           double s = 0.0;
-          for (int q = rest_start[i]; q < rest_start[i + 1]; ++q)
-            s += a[rest_entries[q]] * x[columns[rest_entries[q]]];
-          y[i] += s;
+          for (int q = rest_start[r]; q < rest_start[r + 1]; ++q)
+            s += rest_values[q] * x[rest_columns[q]];
+          y[rest_rows[r]] += s;
         }
     }
     /// Factors of the band of A (values a); false when a pivot vanishes.
+    /// Keeps the rest's values for multiply_by_parts.
     bool factorise_band(const std::vector<double> &a)
     {
       band.zero();
       for (std::size_t k = 0; k < band_entries.size(); ++k)
         band.entry(band_slots[k]) = a[band_entries[k]];
+      for (std::size_t q = 0; q < rest_entries.size(); ++q)
+        rest_values[q] = a[rest_entries[q]];
       return band.factorise();
     }
     /// Throws unless a matrix of the analysed pattern (values) and a
@@ -146,12 +162,17 @@ namespace wirefem::fem
           y[i] = s;
         }
     }
+    /// In four partial sums: not a chain of n dependent additions.
     double dot(const double *a, const double *b) const
     {
-      double s = 0.0;
-      for (int i = 0; i < n; ++i)
-        s += a[i] * b[i];
-      return s;
+      double s[4] = {0.0, 0.0, 0.0, 0.0};
+      int i = 0;
+      for (; i + 3 < n; i += 4)
+        for (int l = 0; l < 4; ++l)
+          s[l] += a[i + l] * b[i + l];
+      for (; i < n; ++i)
+        s[0] += a[i] * b[i];
+      return (s[0] + s[1]) + (s[2] + s[3]);
     }
 
     /// GMRES on A (values a) from x = 0, right preconditioned by
@@ -378,13 +399,12 @@ namespace wirefem::fem
     ++stats.band_solves;
     if (m.band_width != width)
       m.analyse_band(width);
-    if (m.factorise_band(values) &&
-        m.gmres([&](const double *z, double *y) { m.multiply_by_parts(values, z, y); }, b, x, tolerance,
-                max_iterations, stats.band_iterations,
-                [&m](double *z) {
-                  m.band.solve(z);
-                  return true;
-                }))
+    if (m.factorise_band(values) && m.gmres([&m](const double *z, double *y) { m.multiply_by_parts(z, y); },
+                                            b, x, tolerance, max_iterations, stats.band_iterations,
+                                            [&m](double *z) {
+                                              m.band.solve(z);
+                                              return true;
+                                            }))
       return true;
     ++stats.band_refactorised;
     return factorise(values) && solve(b, x);

@@ -60,6 +60,9 @@ namespace wirefem::fem
     double overlap = 0.0;
     double normal_force = 0.0;
     double energy = 0.0; ///< 1/2 k w g^2
+    /// Set by the caller: false leaves the tangent zero (an evaluation of
+    /// the residual alone). The point contacts honour it.
+    bool want_tangent = true;
   };
 
   /// The friction coefficient the regularised law mobilises when sliding at
