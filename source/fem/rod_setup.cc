@@ -330,8 +330,9 @@ namespace wirefem::fem
     /// iterations a solve, most solves ending in an LU, 3 times the time).
     /// With its own LU the band costs less than an LU of the tangent at any
     /// size (docs/notes/2026-12-06-band-lu.md), so auto is the band there.
-    /// The snaps of quasi-static injection keep the LU: on the band a solve
-    /// cost twice as much (13-17 GMRES iterations, docs/notes/2026-12-07-...).
+    /// The snaps of quasi-static injection keep the LU: on the band GMRES
+    /// took 13-17 iterations a solve there, and the solves cost more
+    /// (docs/notes/2026-12-06-contact-prefilter.md).
     std::pair<bool, bool> linear_solver_choice(const scene::LinearSolver solver,
                                                const scene::Integrator integrator)
     {
