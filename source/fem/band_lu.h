@@ -38,7 +38,6 @@ namespace wirefem::fem
       return static_cast<std::size_t>(i) * width + static_cast<std::size_t>(j - i + half);
     }
     double &entry(const std::size_t s) { return band[s]; }
-    void zero() { std::fill(band.begin(), band.end(), 0.0); }
 
     /// The LU of the entries set: L (unit diagonal, below) and U. False
     /// when a pivot is not finite or below 1e-14 of its row's largest entry.

@@ -102,11 +102,12 @@ namespace wirefem::fem
       const double half_d = 0.5 * diameter;
       const double dist = norm(x);
       const bool in_opening = mouths && std::abs(x.y) * radius < half_d * dist;
+      if (!in_opening && dist + half_d - radius <= 0.0)
+        return false; // most points: inside, away from the mouths
       const Vec2 corner{x.x > 0.0 ? std::sqrt(radius * radius - half_d * half_d)
                                   : -std::sqrt(radius * radius - half_d * half_d),
                         x.y > 0.0 ? half_d : -half_d};
-      const double overlap = in_opening ? half_d - norm(corner - x) : dist + half_d - radius;
-      if (overlap <= 0.0)
+      if (in_opening && half_d - norm(corner - x) <= 0.0)
         return false;
       const Fad px(2, 0, x.x), py(2, 1, x.y);
       if (in_opening)
@@ -396,6 +397,35 @@ namespace wirefem::fem
       return p;
     }
 
+    /// Whether x[0] is farther than d from the segment x[1]-x[2] (n == 3) or the point x[1]
+    /// (n == 2) by 1e-12 d^2, decided without a square root or division (t: closest_parameter's).
+    bool clearly_apart(const double d, const int n, const Vec2 *x, double &t)
+    {
+      const double far = d * d * (1.0 + 1e-12);
+      const Vec2 w = x[0] - x[1];
+      t = 0.0;
+      if (n != 3)
+        return dot(w, w) > far;
+      const Vec2 e = x[2] - x[1], v = x[0] - x[2];
+      const double we = dot(w, e), ee = dot(e, e);
+      if (we <= 0.0)
+        return dot(w, w) > far;
+      t = 1.0;
+      if (we >= ee)
+        return dot(v, v) > far;
+      // |w|^2 - (w.e)^2 / |e|^2, the squared distance, times |e|^2.
+      t = we / ee;
+      return ee * dot(w, w) - we * we > far * ee;
+    }
+
+    /// A point that does not touch (most candidates): no need to clear the rest of out.
+    bool apart(ContactContribution &out, const int n)
+    {
+      out.n_points = n;
+      out.overlap = 0.0;
+      return false;
+    }
+
     /// The friction force of a point contact, f_t = friction(f_n, v_t) with
     /// v_t = tau . sum_m share_m v_m and v_m = c x_m + v0_m, its two partial
     /// derivatives, and the velocities its tangent needs.
@@ -436,6 +466,8 @@ namespace wirefem::fem
                        const Vec2 *v0, const double c, ContactContribution &out, double &t_out,
                        const double friction_scale)
     {
+      if (clearly_apart(s.diameter, n, x, t_out))
+        return apart(out, n);
       const ClosestParameter cp = closest_parameter(n, x);
       const Vec2 e = cp.e;
       const double t = cp.t;
@@ -445,12 +477,7 @@ namespace wirefem::fem
       const Vec2 d = x[0] - q;
       const double dist = norm(d);
       if (dist >= s.diameter)
-        {
-          // Most candidates do not touch: no need to clear the rest.
-          out.n_points = n;
-          out.overlap = 0.0;
-          return false;
-        }
+        return apart(out, n);
       const int nd = start_contribution(out, n);
       out.overlap = s.diameter - dist;
       if (dist < 1e-12 * s.diameter)

@@ -51,15 +51,14 @@ namespace wirefem::fem
 
   bool RodModel::Impl::pattern_covers(const dealii::Vector<double> &x, const double reach) const
   {
-    // Both lists are sorted by (i, j).
+    // Both lists are sorted by (i, j); only the candidates outside the
+    // pattern need their distance.
     auto in = sp_pairs.begin();
     for (const auto &pr : broad.candidates())
       {
-        if (!closer_than(x, pr, reach))
-          continue;
         while (in != sp_pairs.end() && *in < pr)
           ++in;
-        if (in == sp_pairs.end() || !(*in == pr))
+        if ((in == sp_pairs.end() || !(*in == pr)) && closer_than(x, pr, reach))
           return false;
       }
     return true;

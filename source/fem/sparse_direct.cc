@@ -112,7 +112,7 @@ namespace wirefem::fem
     /// Keeps the rest's values for multiply_by_parts.
     bool factorise_band(const std::vector<double> &a)
     {
-      band.zero();
+      // The slots outside the pattern stay as analyse_band() left them: zero.
       for (std::size_t k = 0; k < band_entries.size(); ++k)
         band.entry(band_slots[k]) = a[band_entries[k]];
       for (std::size_t q = 0; q < rest_entries.size(); ++q)
