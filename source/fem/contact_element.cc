@@ -398,24 +398,16 @@ namespace wirefem::fem
     }
 
     /// Whether x[0] is farther than d from the segment x[1]-x[2] (n == 3) or the point x[1]
-    /// (n == 2) by 1e-12 d^2, decided without a square root or division (t: closest_parameter's).
+    /// (n == 2) by 1e-12 d^2, from the squared distance (no square root; t: as closest_parameter's).
     bool clearly_apart(const double d, const int n, const Vec2 *x, double &t)
     {
       const double far = d * d * (1.0 + 1e-12);
-      const Vec2 w = x[0] - x[1];
       t = 0.0;
       if (n != 3)
-        return dot(w, w) > far;
-      const Vec2 e = x[2] - x[1], v = x[0] - x[2];
-      const double we = dot(w, e), ee = dot(e, e);
-      if (we <= 0.0)
-        return dot(w, w) > far;
-      t = 1.0;
-      if (we >= ee)
-        return dot(v, v) > far;
-      // |w|^2 - (w.e)^2 / |e|^2, the squared distance, times |e|^2.
-      t = we / ee;
-      return ee * dot(w, w) - we * we > far * ee;
+        return core::norm_square(x[0] - x[1]) > far;
+      const contact::PointOnSegment c = contact::closest_on_segment(x[0], x[1], x[2]);
+      t = c.t;
+      return c.distance2 > far;
     }
 
     /// A point that does not touch (most candidates): no need to clear the rest of out.
