@@ -202,10 +202,11 @@ namespace wirefem::fem
     return slide;
   }
 
-  bool wall_contact_spring(const double radius, const ContactSettings &s, const double weight,
-                           const double stiffness_ratio, const Vec2 &x, const Vec2 &x_old, const double dt,
-                           const contact::FrictionHistory &old, ContactContribution &out,
-                           SpringFriction &friction, const double friction_scale)
+  bool wall_contact_spring_by_ad(const double radius, const ContactSettings &s, const double weight,
+                                 const double stiffness_ratio, const Vec2 &x, const Vec2 &x_old,
+                                 const double dt, const contact::FrictionHistory &old,
+                                 ContactContribution &out, SpringFriction &friction,
+                                 const double friction_scale)
   {
     WallPoint w;
     if (!wall_point(radius, s, weight, x, w))

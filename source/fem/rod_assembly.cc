@@ -49,18 +49,60 @@ namespace wirefem::fem
         out.push_back(pr);
   }
 
-  bool RodModel::Impl::pattern_covers(const dealii::Vector<double> &x, const double reach) const
+  bool RodModel::Impl::pattern_covers(const dealii::Vector<double> &x, const double reach)
   {
-    // Both lists are sorted by (i, j); only the candidates outside the
-    // pattern need their distance.
+    const auto at = [&](const int k) { return position(x, k); };
+    // The pairs outside the pattern that the last measurement cannot vouch
+    // for are measured; when they are many, all are measured afresh.
+    const double needed = sp_slack.needed(reach, broad.n_rebuilds(), at);
+    if (std::isfinite(needed))
+      {
+        std::size_t measured = 0;
+        for (const auto &[pr, slack] : sp_slack.outside)
+          {
+            if (slack >= needed)
+              break;
+            ++measured;
+            if (closer_than(x, pr, reach))
+              {
+                sp_slack.valid = false;
+                return false;
+              }
+          }
+        if (4 * measured <= sp_slack.outside.size())
+          return true;
+      }
+    // Both lists are sorted by (i, j); box_gap bounds a distance from below.
+    sp_slack.outside.clear();
+    int lo = static_cast<int>(n_nodes), hi = -1;
     auto in = sp_pairs.begin();
     for (const auto &pr : broad.candidates())
       {
         while (in != sp_pairs.end() && *in < pr)
           ++in;
-        if ((in == sp_pairs.end() || !(*in == pr)) && closer_than(x, pr, reach))
-          return false;
+        if (in != sp_pairs.end() && *in == pr)
+          continue;
+        double apart = contact::box_gap(at(pr.i), at(pr.i + 1), at(pr.j), at(pr.j + 1));
+        if (apart < reach)
+          apart = contact::closest_points(at(pr.i), at(pr.i + 1), at(pr.j), at(pr.j + 1)).distance;
+        if (apart < reach)
+          {
+            sp_slack.valid = false;
+            return false;
+          }
+        sp_slack.outside.push_back({pr, apart - reach});
+        lo = std::min(lo, pr.i);
+        hi = std::max(hi, pr.j + 1);
       }
+    std::sort(sp_slack.outside.begin(), sp_slack.outside.end(),
+              [](const auto &a, const auto &b) { return a.slack < b.slack; });
+    sp_slack.valid = true;
+    sp_slack.reach = reach;
+    sp_slack.broad_rebuilds = broad.n_rebuilds();
+    sp_slack.lo = lo;
+    sp_slack.at.clear();
+    for (int k = lo; k <= hi; ++k)
+      sp_slack.at.push_back(at(k));
     return true;
   }
 
@@ -136,6 +178,7 @@ namespace wirefem::fem
     sp_first = first;
     sp_last = last;
     sp_pairs = std::move(pairs);
+    sp_slack.valid = false;
   }
 
   void RodModel::Impl::evaluate(const AssemblyRequest &rq, Evaluation &e)
@@ -325,6 +368,7 @@ namespace wirefem::fem
         const bool spring = wall_spring && rq.step > 0.0;
         if (spring)
           e.wall_history.assign(n_nodes, contact::FrictionHistory{});
+        cc.want_tangent = rq.want_tangent; // (the spring law honours it)
         for (int k = wall_first; k < wall_last; ++k)
           if (spring ? wall_spring_contact(rq, k, position(u1, k), node_weight(k), cc, e)
                      : wall_contact(radius, wall_settings, node_weight(k), position(u1, k), rq.velocity0(k),

@@ -6,15 +6,17 @@
 #include <Sacado.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 namespace wirefem::fem
 {
   ElementShape ElementShape::lagrange(const unsigned int degree, const double h, const unsigned int n_q)
   {
-    if (degree < 1 || n_q < 1 || !(h > 0.0))
-      throw std::invalid_argument("ElementShape: degree >= 1, n_q >= 1 and h > 0 required");
+    if (degree < 1 || degree > max_degree || n_q < 1 || n_q > max_points || !(h > 0.0))
+      throw std::invalid_argument("ElementShape: 1 <= degree <= 3, 1 <= n_q <= 8 and h > 0 required");
     const dealii::FE_Q<1> fe(degree);
     const dealii::QGauss<1> quadrature(n_q);
     ElementShape s;
@@ -90,10 +92,19 @@ namespace wirefem::fem
     }
 
     // Residual with scalar type T: double for the value, Fad for the tangent.
+    /// What the tangent needs of a quadrature point, kept from the residual.
+    struct PointEvaluation
+    {
+      PointKinematics<double> k;
+      material::MomentResult m;
+    };
+
+    // (points, if given, receives each quadrature point's kinematics and
+    // law, so that the tangent does not evaluate them again.)
     template <typename T>
     void residual(const ElementShape &shape, const SectionProperties &section,
                   const material::MomentCurvatureLaw &law, const T *u, const PointState *old, const double dt,
-                  const double viscous_scale, T *r, ElementResult *values)
+                  const double viscous_scale, T *r, ElementResult *values, PointEvaluation *points = nullptr)
     {
       const unsigned int n = 3 * shape.n_nodes;
       for (unsigned int i = 0; i < n; ++i)
@@ -103,6 +114,9 @@ namespace wirefem::fem
           const auto k = kinematics(shape, q, u);
           const double kappa_value = Sacado::ScalarValue<T>::eval(k.kappa);
           const auto m = law.evaluate(kappa_value, old[q].plastic);
+          if constexpr (std::is_same_v<T, double>)
+            if (points)
+              points[q] = {k, m};
           // Linearisation of the return mapping at the current curvature.
           T M = m.moment + m.tangent * (k.kappa - kappa_value);
           T N = section.EA * k.eps;
@@ -158,17 +172,16 @@ namespace wirefem::fem
     /// with N' = EA + viscous_scale eta_a / dt, M' the law's algorithmic
     /// tangent + viscous_scale eta_b / dt, and the geometric terms from
     /// d (c, s) / d theta and d eps / d theta = gamma N_a, d gamma / d theta = -(1 + eps) N_a.
-    void tangent(const ElementShape &shape, const SectionProperties &section,
-                 const material::MomentCurvatureLaw &law, const double *u, const PointState *old,
-                 const double dt, const double viscous_scale, double *K)
+    void tangent(const ElementShape &shape, const SectionProperties &section, const PointEvaluation *points,
+                 const PointState *old, const double dt, const double viscous_scale, double *K)
     {
       const unsigned int nn = shape.n_nodes, n = 3 * nn;
       std::fill(K, K + n * n, 0.0);
       double be[12], bg[12], bk[12];
       for (unsigned int q = 0; q < shape.n_q; ++q)
         {
-          const auto k = kinematics(shape, q, u);
-          const auto m = law.evaluate(k.kappa, old[q].plastic);
+          const auto &k = points[q].k;
+          const auto &m = points[q].m;
           double N = section.EA * k.eps, dN = section.EA, dM = m.tangent;
           const double Q = section.GA * k.gamma;
           if (dt > 0.0)
@@ -218,12 +231,15 @@ namespace wirefem::fem
     out.viscous_residual.assign(n, 0.0);
     out.state.assign(shape.n_q, PointState{});
     out.axial_energy = out.shear_energy = out.bending_energy = out.plastic_work = 0.0;
-    residual<double>(shape, section, law, dofs, old, dt, 1.0, out.residual.data(), &out);
-    out.tangent.clear();
+    std::array<PointEvaluation, ElementShape::max_points> points;
+    residual<double>(shape, section, law, dofs, old, dt, 1.0, out.residual.data(), &out, points.data());
     if (!want_tangent)
-      return;
-    out.tangent.resize(n * n);
-    tangent(shape, section, law, dofs, old, dt, viscous_scale, out.tangent.data());
+      {
+        out.tangent.clear();
+        return;
+      }
+    out.tangent.resize(n * n); // tangent() sets every entry
+    tangent(shape, section, points.data(), old, dt, viscous_scale, out.tangent.data());
   }
 
   std::vector<double> rod_element_tangent_by_ad(const ElementShape &shape, const SectionProperties &section,

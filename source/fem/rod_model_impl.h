@@ -17,6 +17,7 @@
 #include <wirefem/injection/inlet.h>
 #include <wirefem/core/binary.h>
 #include <wirefem/core/section_timer.h>
+#include "pattern_slack.h"
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/conditional_ostream.h>
@@ -268,12 +269,10 @@ namespace wirefem::fem
     bool solve_factorised(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
     /// K's pattern: the elements of the free range [sp_first, sp_last) and
     /// the contact pairs sp_pairs (sorted), the candidates within
-    /// pattern_margin of contact when it was built (evaluate()). Only these
-    /// can touch before the pattern is built again, so only these enter it:
-    /// the others' entries would be zeros that the factorisation fills in.
-    /// The pattern is part of the checkpoint (load() builds it), and the
-    /// broad phase finds every pair within the margin, so a resumed run
-    /// orders and rounds as the uninterrupted one.
+    /// pattern_margin of contact when it was built (evaluate()); only these
+    /// can touch before it is built again (others would be zeros that the
+    /// factorisation fills in). It is part of the checkpoint (load() builds
+    /// it), so a resumed run orders and rounds as the uninterrupted one.
     int sp_first = -1, sp_last = -1;
     std::vector<contact::SegmentPair> sp_pairs;
     double pattern_margin = 0;
@@ -282,9 +281,10 @@ namespace wirefem::fem
     /// The candidate pairs of positions `u` closer than diameter + reach.
     void near_pairs(const dealii::Vector<double> &u, double reach,
                     std::vector<contact::SegmentPair> &out) const;
-    /// Whether every candidate pair of positions `u` whose chords are
-    /// closer than `reach` (every pair that can touch) is in K's pattern.
-    bool pattern_covers(const dealii::Vector<double> &u, double reach) const;
+    /// Whether every candidate pair of positions `u` whose chords are closer than
+    /// `reach` (all that can touch) is in K's pattern; checked once sp_slack is used up.
+    bool pattern_covers(const dealii::Vector<double> &u, double reach);
+    PatternSlack sp_slack;
     /// Chords closer than this can touch: d + 2 x the largest point-to-chord distance.
     double contact_reach(const dealii::Vector<double> &x, int first, int last) const;
 

@@ -175,6 +175,26 @@ namespace wirefem::fem
       return (s[0] + s[1]) + (s[2] + s[3]);
     }
 
+    /// w -= c v, then the dot product of w with `next` (w itself: its
+    /// square norm), summed as dot() sums: one pass instead of two.
+    double subtract_and_dot(double *w, const double c, const double *v, const double *next) const
+    {
+      double s[4] = {0.0, 0.0, 0.0, 0.0};
+      int i = 0;
+      for (; i + 3 < n; i += 4)
+        for (int l = 0; l < 4; ++l)
+          {
+            w[i + l] -= c * v[i + l];
+            s[l] += w[i + l] * next[i + l];
+          }
+      for (; i < n; ++i)
+        {
+          w[i] -= c * v[i];
+          s[0] += w[i] * next[i];
+        }
+      return (s[0] + s[1]) + (s[2] + s[3]);
+    }
+
     /// GMRES on A (values a) from x = 0, right preconditioned by
     /// `precondition` (z -> M^{-1} z in place; false when it fails), with
     /// modified Gram-Schmidt and Givens rotations; true when
@@ -209,13 +229,19 @@ namespace wirefem::fem
             return false;
           double *w = v(j + 1);
           multiply(z(j), w);
+          h(0, j) = dot(w, v(0));
           for (int i = 0; i <= j; ++i)
             {
-              h(i, j) = dot(w, v(i));
-              for (int l = 0; l < n; ++l)
-                w[l] -= h(i, j) * v(i)[l];
+              // w -= h_ij v_i, and the next dot product in the same pass
+              // (with v_{i+1}, or with w itself for its norm).
+              const double *next = i < j ? v(i + 1) : w;
+              const double next_dot = subtract_and_dot(w, h(i, j), v(i), next);
+              if (i < j)
+                h(i + 1, j) = next_dot;
+              else
+                h(j + 1, j) = next_dot;
             }
-          const double wn = std::sqrt(dot(w, w));
+          const double wn = std::sqrt(h(j + 1, j));
           h(j + 1, j) = wn;
           for (int i = 0; i < j; ++i)
             {

@@ -115,6 +115,12 @@ namespace wirefem::fem
                            const core::Vec2 &x, const core::Vec2 &x_old, double dt,
                            const contact::FrictionHistory &old, ContactContribution &out,
                            SpringFriction &friction, double friction_scale = 1.0);
+  /// The same by automatic differentiation (the tests' oracle for the
+  /// tangent derived by hand); it always fills the tangent.
+  bool wall_contact_spring_by_ad(double radius, const ContactSettings &s, double weight,
+                                 double stiffness_ratio, const core::Vec2 &x, const core::Vec2 &x_old,
+                                 double dt, const contact::FrictionHistory &old, ContactContribution &out,
+                                 SpringFriction &friction, double friction_scale = 1.0);
 
   /// The friction alone of point x[0] against the segment x[1]-x[2] (the
   /// closest point q, clamped to the ends; normal force k w (d - |x0 - q|))

@@ -34,6 +34,8 @@ namespace wirefem::fem
   /// Shape functions of one element at its quadrature points.
   struct ElementShape
   {
+    static constexpr unsigned int max_degree = 3; ///< at most 12 dofs
+    static constexpr unsigned int max_points = 8; ///< Gauss points
     unsigned int n_nodes = 0;
     unsigned int n_q = 0;
     double length = 0.0;
@@ -46,7 +48,8 @@ namespace wirefem::fem
     double derivative(unsigned int q, unsigned int a) const { return dN[q * n_nodes + a]; }
 
     /// Lagrange element of degree p (deal.II FE_Q node layout) on an element
-    /// of rest length h, with n_q Gauss points.
+    /// of rest length h, with n_q Gauss points (degree <= max_degree,
+    /// n_q <= max_points).
     static ElementShape lagrange(unsigned int degree, double h, unsigned int n_q);
   };
 
