@@ -2,8 +2,9 @@
 # Runs one scene with the discrete model and then with the rod FEM, back to
 # back on the same machine, REPEAT times each (alternating), and prints one
 # row per model: median wall time, phi at the end, loops, how it stopped,
-# energy balance, largest overlap; and the FEM's cost as a multiple of the
-# chain's (ratio of the medians).
+# energy balance, largest overlap; the FEM's cost as a multiple of the
+# chain's (ratio of the medians); and the FEM's wall time per Newton
+# iteration and iterations per step.
 #   scripts/models-back-to-back.sh SCENE.prm [extra --set arguments...]
 # Example: scripts/models-back-to-back.sh prm/quick.prm --set Cavity/Radius=20 \
 #            --set "Injection/Maximum packing density=0.35"
@@ -64,4 +65,21 @@ for model, p in phis.items():
     print(f"{model}: phi {statistics.mean(p):.3f}{spread}, median wall {median[model]:.2f} s")
 if len(median) == 2 and median["discrete"] > 0:
     print(f"FEM / chain wall time: {median['fem'] / median['discrete']:.2f} (medians of {repeat})")
+# The FEM's cost per Newton iteration (one linear solve and its assembly)
+# and its iterations per step: runs are chaotic, so two builds of the FEM
+# follow different trajectories and their wall times differ by more than
+# their cost per iteration does.
+per_iteration, per_step = [], []
+for r in range(1, repeat + 1):
+    try:
+        s = json.load(open(f"{out}/fem_{r}/summary.json"))
+    except (OSError, ValueError):
+        continue
+    iterations = s.get("solver_statistics", {}).get("newton_iterations", 0)
+    if iterations > 0 and s["steps"] > 0:
+        per_iteration.append(1e6 * s["wall_time_s"] / iterations)
+        per_step.append(iterations / s["steps"])
+if per_iteration:
+    print(f"FEM: {statistics.median(per_iteration):.0f} us of wall time per Newton iteration, "
+          f"{statistics.median(per_step):.2f} iterations per step (medians of {len(per_iteration)})")
 PY
