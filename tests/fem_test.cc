@@ -442,6 +442,29 @@ namespace
           }
   }
 
+  /// A wall with its channels' mouths, the channels turned by `angle` degrees.
+  std::shared_ptr<const injection::ChannelledWall> channelled(const geometry::Cavity &wall,
+                                                              const double angle)
+  {
+    scene::InjectionParameters in;
+    in.channel_angle = angle;
+    return std::make_shared<const injection::ChannelledWall>(wall, scene::channel_mouths(wall, in));
+  }
+
+  /// An ellipse of aspect ratio 1.5 and mean radius R, channels turned 30 degrees.
+  std::shared_ptr<const injection::ChannelledWall> turned_ellipse(const double R)
+  {
+    const double q = std::sqrt(1.5);
+    return channelled(geometry::Cavity::ellipse(R * q, R / q), 30.0);
+  }
+
+  /// The point `depth` outside the wall at the fraction s of its length.
+  Vec2 off_wall(const injection::ChannelledWall &wall, const double s, const double depth)
+  {
+    const auto w = wall.cavity.at(s * wall.cavity.perimeter());
+    return w.point + depth * w.normal;
+  }
+
   // Any wall (ContactSettings::shaped): on the circle with the paper's
   // mouths it is the closed form; on an ellipse with channels turned 30
   // degrees the force is the gradient of the energy and the tangent the
@@ -449,15 +472,10 @@ namespace
   TEST(FemContact, ShapedWallIsTheCircleOnTheCircleAndItsTangentTheDerivative)
   {
     const double R = 10.0;
-    const auto place = [](const geometry::Cavity &wall, const double angle) {
-      scene::InjectionParameters in;
-      in.channel_angle = angle;
-      return std::make_shared<const injection::ChannelledWall>(wall, scene::channel_mouths(wall, in));
-    };
     for (const bool friction : {false, true})
       {
         auto plain = settings(friction), shaped = settings(friction);
-        shaped.shaped = place(geometry::Cavity::circle(R), 0.0);
+        shaped.shaped = channelled(geometry::Cavity::circle(R), 0.0);
         const Vec2 v0{0.003, -0.002};
         for (const Vec2 x : {Vec2{3.0, 9.35}, Vec2{-9.9, 0.2}, Vec2{9.8, -0.25}, Vec2{-6.0, -7.7}})
           {
@@ -470,13 +488,9 @@ namespace
               EXPECT_NEAR(a.tangent[i], b.tangent[i], 1e-9 * plain.stiffness);
           }
       }
-    const double q = std::sqrt(1.5);
-    const auto wall = place(geometry::Cavity::ellipse(R * q, R / q), 30.0);
+    const auto wall = turned_ellipse(R);
     const auto &m = wall->mouths;
-    const auto at_wall = [&](const double s, const double depth) {
-      const auto w = wall->cavity.at(s * wall->cavity.perimeter());
-      return w.point + depth * w.normal;
-    };
+    const auto at_wall = [&](const double s, const double depth) { return off_wall(*wall, s, depth); };
     for (const bool friction : {false, true})
       for (const Vec2 x : {at_wall(0.2, 0.3), at_wall(0.63, 0.1), m[0].corners[0] + 0.3 * m[0].axis,
                            m[1].corners[1] + 0.2 * m[1].axis + 0.1 * core::perp(m[1].axis)})
@@ -548,16 +562,8 @@ namespace
   TEST(FemContact, SpringLawWallByHandIsTheAutomaticDerivative)
   {
     const double R = 10.0, dt = 0.1, ratio = 0.2;
-    scene::InjectionParameters in;
-    in.channel_angle = 30.0;
-    const double q = std::sqrt(1.5);
-    const auto ellipse = geometry::Cavity::ellipse(R * q, R / q);
-    const auto wall =
-        std::make_shared<const injection::ChannelledWall>(ellipse, scene::channel_mouths(ellipse, in));
-    const auto at_wall = [&](const double s, const double depth) {
-      const auto w = wall->cavity.at(s * wall->cavity.perimeter());
-      return w.point + depth * w.normal;
-    };
+    const auto wall = turned_ellipse(R);
+    const auto at_wall = [&](const double s, const double depth) { return off_wall(*wall, s, depth); };
     const double corner_x = std::sqrt(R * R - 0.25);
     struct Place
     {

@@ -1,6 +1,7 @@
 #include <wirefem/contact/segment_distance.h>
 #include <wirefem/fem/contact_element.h>
 #include <wirefem/fem/rod_element.h>
+#include "contact_internal.h"
 
 #include <vector>
 
@@ -100,14 +101,9 @@ namespace wirefem::fem
                        Fad &ny, Fad &g)
     {
       const double half_d = 0.5 * diameter;
-      const double dist = norm(x);
-      const bool in_opening = mouths && std::abs(x.y) * radius < half_d * dist;
-      if (!in_opening && dist + half_d - radius <= 0.0)
-        return false; // most points: inside, away from the mouths
-      const Vec2 corner{x.x > 0.0 ? std::sqrt(radius * radius - half_d * half_d)
-                                  : -std::sqrt(radius * radius - half_d * half_d),
-                        x.y > 0.0 ? half_d : -half_d};
-      if (in_opening && half_d - norm(corner - x) <= 0.0)
+      bool in_opening;
+      Vec2 corner;
+      if (!detail::circle_wall_touches(radius, diameter, mouths, x, in_opening, corner))
         return false;
       const Fad px(2, 0, x.x), py(2, 1, x.y);
       if (in_opening)
@@ -278,16 +274,6 @@ namespace wirefem::fem
 
   namespace
   {
-    /// Clears `out` for a contact of n points; returns its number of dofs.
-    int start_contribution(ContactContribution &out, const int n)
-    {
-      const bool want_tangent = out.want_tangent;
-      out = ContactContribution{};
-      out.n_points = n;
-      out.want_tangent = want_tangent;
-      return 2 * n;
-    }
-
     /// Point x[0] against the segment x[1]-x[2] (n = 3) or the point x[1]
     /// (n = 2): penalty on the overlap with the closest point q, regularised
     /// friction on the relative velocity of x[0] and q.
@@ -295,7 +281,7 @@ namespace wirefem::fem
                              const Vec2 *v0, const double c, ContactContribution &out, double &t_out,
                              const double friction_scale)
     {
-      const int nd = start_contribution(out, n);
+      const int nd = detail::start_contribution(out, n);
       P<Fad> p[3];
       for (int m = 0; m < n; ++m)
         p[m] = {Fad(nd, 2 * m, x[m].x), Fad(nd, 2 * m + 1, x[m].y)};
@@ -471,7 +457,7 @@ namespace wirefem::fem
       const double dist = norm(d);
       if (dist >= s.diameter)
         return apart(out, n);
-      const int nd = start_contribution(out, n);
+      const int nd = detail::start_contribution(out, n);
       out.overlap = s.diameter - dist;
       if (dist < 1e-12 * s.diameter)
         return false;

@@ -31,13 +31,19 @@ namespace wirefem::fem
     return true;
   }
 
-  bool RodModel::Impl::closer_than(const dealii::Vector<double> &x, const contact::SegmentPair &pr,
+  double RodModel::Impl::chord_gap(const dealii::Vector<double> &x, const contact::SegmentPair &pr,
                                    const double cutoff) const
   {
     const Vec2 a0 = position(x, pr.i), a1 = position(x, pr.i + 1), b0 = position(x, pr.j),
                b1 = position(x, pr.j + 1);
-    return contact::box_gap(a0, a1, b0, b1) < cutoff &&
-           contact::closest_points(a0, a1, b0, b1).distance < cutoff;
+    const double gap = contact::box_gap(a0, a1, b0, b1);
+    return gap < cutoff ? contact::closest_points(a0, a1, b0, b1).distance : gap;
+  }
+
+  bool RodModel::Impl::closer_than(const dealii::Vector<double> &x, const contact::SegmentPair &pr,
+                                   const double cutoff) const
+  {
+    return chord_gap(x, pr, cutoff) < cutoff;
   }
 
   void RodModel::Impl::near_pairs(const dealii::Vector<double> &x, const double reach,
@@ -72,7 +78,7 @@ namespace wirefem::fem
         if (4 * measured <= sp_slack.outside.size())
           return true;
       }
-    // Both lists are sorted by (i, j); box_gap bounds a distance from below.
+    // Both lists are sorted by (i, j).
     sp_slack.outside.clear();
     int lo = static_cast<int>(n_nodes), hi = -1;
     auto in = sp_pairs.begin();
@@ -82,9 +88,7 @@ namespace wirefem::fem
           ++in;
         if (in != sp_pairs.end() && *in == pr)
           continue;
-        double apart = contact::box_gap(at(pr.i), at(pr.i + 1), at(pr.j), at(pr.j + 1));
-        if (apart < reach)
-          apart = contact::closest_points(at(pr.i), at(pr.i + 1), at(pr.j), at(pr.j + 1)).distance;
+        const double apart = chord_gap(x, pr, reach);
         if (apart < reach)
           {
             sp_slack.valid = false;

@@ -91,7 +91,6 @@ namespace wirefem::fem
       return k;
     }
 
-    // Residual with scalar type T: double for the value, Fad for the tangent.
     /// What the tangent needs of a quadrature point, kept from the residual.
     struct PointEvaluation
     {
@@ -99,6 +98,7 @@ namespace wirefem::fem
       material::MomentResult m;
     };
 
+    // Residual with scalar type T: double for the value, Fad for the tangent
     // (points, if given, receives each quadrature point's kinematics and
     // law, so that the tangent does not evaluate them again.)
     template <typename T>

@@ -276,13 +276,13 @@ namespace wirefem::fem
     int sp_first = -1, sp_last = -1;
     std::vector<contact::SegmentPair> sp_pairs;
     double pattern_margin = 0;
-    /// Whether the segments of a pair at positions `u` are closer than cutoff.
+    /// A pair's chord distance at `u` (its boxes' gap once that reaches cutoff); closer_than: below cutoff.
+    double chord_gap(const dealii::Vector<double> &u, const contact::SegmentPair &pr, double cutoff) const;
     bool closer_than(const dealii::Vector<double> &u, const contact::SegmentPair &pr, double cutoff) const;
     /// The candidate pairs of positions `u` closer than diameter + reach.
     void near_pairs(const dealii::Vector<double> &u, double reach,
                     std::vector<contact::SegmentPair> &out) const;
-    /// Whether every candidate pair of positions `u` whose chords are closer than
-    /// `reach` (all that can touch) is in K's pattern; checked once sp_slack is used up.
+    /// Whether every candidate pair at `u` closer than `reach` (all that can touch) is in K's pattern.
     bool pattern_covers(const dealii::Vector<double> &u, double reach);
     PatternSlack sp_slack;
     /// Chords closer than this can touch: d + 2 x the largest point-to-chord distance.

@@ -234,12 +234,7 @@ namespace wirefem::fem
             {
               // w -= h_ij v_i, and the next dot product in the same pass
               // (with v_{i+1}, or with w itself for its norm).
-              const double *next = i < j ? v(i + 1) : w;
-              const double next_dot = subtract_and_dot(w, h(i, j), v(i), next);
-              if (i < j)
-                h(i + 1, j) = next_dot;
-              else
-                h(j + 1, j) = next_dot;
+              h(i + 1, j) = subtract_and_dot(w, h(i, j), v(i), i < j ? v(i + 1) : w);
             }
           const double wn = std::sqrt(h(j + 1, j));
           h(j + 1, j) = wn;

@@ -2,6 +2,7 @@
 // (FEM/Friction law = spring, the default), with its tangent derived by
 // hand; wall_contact_spring_by_ad (contact_element.cc) is the tests' oracle.
 #include <wirefem/fem/contact_element.h>
+#include "contact_internal.h"
 
 #include <cmath>
 
@@ -33,34 +34,27 @@ namespace wirefem::fem
     void at_corner(const Vec2 &corner, const Vec2 &x, const double half_d, Touch &w)
     {
       const Vec2 d = corner - x;
-      const double dc = std::sqrt(d.x * d.x + d.y * d.y);
+      const double dc = norm(d);
       w.n = {d.x / dc, d.y / dc};
       w.g = half_d - dc;
       project(-1.0 / dc, w);
     }
 
-    /// The circle of radius r with the radial channels' mouths (as
-    /// wall_geometry in contact_element.cc).
+    /// The circle of radius r with the radial channels' mouths.
     bool circle(const double radius, const double diameter, const bool mouths, const Vec2 &x, Touch &w)
     {
-      const double half_d = 0.5 * diameter;
-      const double dist = norm(x);
-      const bool in_opening = mouths && std::abs(x.y) * radius < half_d * dist;
-      if (!in_opening && dist + half_d - radius <= 0.0)
-        return false;
-      const Vec2 corner{x.x > 0.0 ? std::sqrt(radius * radius - half_d * half_d)
-                                  : -std::sqrt(radius * radius - half_d * half_d),
-                        x.y > 0.0 ? half_d : -half_d};
-      if (in_opening && half_d - norm(corner - x) <= 0.0)
+      bool in_opening;
+      Vec2 corner;
+      if (!detail::circle_wall_touches(radius, diameter, mouths, x, in_opening, corner))
         return false;
       if (in_opening)
         {
-          at_corner(corner, x, half_d, w);
+          at_corner(corner, x, 0.5 * diameter, w);
           return true;
         }
-      const double r = std::sqrt(x.x * x.x + x.y * x.y);
+      const double r = norm(x);
       w.n = {x.x / r, x.y / r};
-      w.g = r + half_d - radius;
+      w.g = r + 0.5 * diameter - radius;
       project(1.0 / r, w);
       return true;
     }
@@ -95,10 +89,8 @@ namespace wirefem::fem
     Touch w;
     if (!(s.shaped ? shaped(*s.shaped, s.diameter, x, w) : circle(radius, s.diameter, s.mouths, x, w)))
       return false;
+    detail::start_contribution(out, 1);
     const bool want_tangent = out.want_tangent;
-    out = ContactContribution{};
-    out.want_tangent = want_tangent;
-    out.n_points = 1;
     const double k = s.stiffness * weight, fn = k * w.g;
     const double n[2] = {w.n.x, w.n.y};
     // The friction force ft along t = perp(n), dt/dx = R dn/dx, and its
