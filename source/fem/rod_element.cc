@@ -227,9 +227,9 @@ namespace wirefem::fem
                             ElementResult &out, const double viscous_scale)
   {
     const unsigned int n = 3 * shape.n_nodes;
-    out.residual.assign(n, 0.0);
-    out.viscous_residual.assign(n, 0.0);
-    out.state.assign(shape.n_q, PointState{});
+    out.residual.resize(n);              // residual() clears it
+    out.viscous_residual.assign(n, 0.0); // residual() adds to it
+    out.state.resize(shape.n_q);         // residual() sets every field
     out.axial_energy = out.shear_energy = out.bending_energy = out.plastic_work = 0.0;
     std::array<PointEvaluation, ElementShape::max_points> points;
     residual<double>(shape, section, law, dofs, old, dt, 1.0, out.residual.data(), &out, points.data());
