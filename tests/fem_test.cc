@@ -1059,11 +1059,14 @@ namespace
   /// comparisons between two solver settings, with one or two more keys. Their
   /// steps are fixed (FEM/Step error = 0): the error control would set
   /// each run's steps from estimates that differ by rounding, and the runs
-  /// would never meet at equal times.
+  /// would never meet at equal times. Newton stops at 1e-8 of EA, not the
+  /// scenes' 1e-6, so that what it leaves does not hide a difference
+  /// between the solvers (two solvers' wires differ by 2e-5 d at 1e-6).
   scene::Scene contact_scene(const std::string &key, const std::string &other = {})
   {
     std::vector<std::string> keys{"Wire/Plasticity/Yield curvature=0.05",
-                                  "Contact/Friction/Static coefficient=0.5", "FEM/Step error=0", key};
+                                  "Contact/Friction/Static coefficient=0.5", "FEM/Step error=0",
+                                  "FEM/Newton tolerance=1e-8", key};
     if (!other.empty())
       keys.push_back(other);
     return fem_scene(keys);
@@ -1234,7 +1237,12 @@ namespace
     // which books the channel's reactions as its work, ended 19% off here
     // (1.9% on the classic scene at f = 10). The points act on the segments
     // between the wall's nodes.
-    fem::RodModel m(fem_scene({"Cavity/Radius=10", "Injection/Channels=tangential", "FEM/Contact points=2"}));
+    // Newton at 1e-8 of EA: the remainder of this short, impact-heavy run
+    // moves with its trajectory, 1.2e-3 to 5.1e-3 under tolerances 1e-8,
+    // 1e-7, 1e-6 and 3e-6 (in no order of the tolerance), so the limit
+    // holds one trajectory; the fault it guards against left 19%.
+    fem::RodModel m(fem_scene({"Cavity/Radius=10", "Injection/Channels=tangential", "FEM/Contact points=2",
+                               "FEM/Newton tolerance=1e-8"}));
     while (m.injected_length() < 60.0)
       m.step();
     EXPECT_LT(std::abs(m.energies().balance_error()), 5e-3);
@@ -1885,22 +1893,28 @@ namespace
     EXPECT_EQ(largest_distance(straight, resumed), 0.0);
   }
 
-  /// Friction springs are state: a run resumed from a checkpoint at L = 38
+  /// Friction springs are state: a run resumed from a checkpoint at the
+  /// first step from L = 36 on where `holds` says there are springs to lose
   /// continues bit for bit to 45, and one that forgets them after loading
-  /// (`forget`) does not, from a checkpoint at L = 38, 40 or 42 where
-  /// `holds` says there are springs to lose (a spring may hold a contact
-  /// that opens at once, so one checkpoint alone may not show it).
+  /// (`forget`) does not, from that checkpoint or one 2 or 4 later (a
+  /// spring may hold a contact that opens at once, so one checkpoint alone
+  /// may not show it).
   void expect_springs_in_checkpoint(const scene::Scene &s, const std::function<bool(fem::RodModel &)> &holds,
                                     const std::function<void(fem::RodModel &)> &forget)
   {
     fem::RodModel straight(s), first(s), resumed(s);
-    checks::run_straight_and_resumed(straight, first, resumed, 38.0, 45.0);
-    EXPECT_TRUE(holds(first)) << "no spring to lose at the checkpoint";
+    while (first.injected_length() < 36.0 || !holds(first))
+      {
+        first.step();
+        ASSERT_LT(first.injected_length(), 41.0) << "no spring to lose at L = 36 to 41";
+      }
+    const double checkpoint = first.injected_length();
+    checks::run_straight_and_resumed(straight, first, resumed, checkpoint, 45.0);
     EXPECT_EQ(straight.n_steps(), resumed.n_steps());
     EXPECT_EQ(straight.time(), resumed.time());
     EXPECT_EQ(largest_distance(straight, resumed), 0.0);
     double lost = 0.0;
-    for (const double at : {38.0, 40.0, 42.0})
+    for (const double at : {checkpoint, checkpoint + 2.0, checkpoint + 4.0})
       {
         while (first.injected_length() < at)
           first.step();
@@ -2115,7 +2129,8 @@ namespace
     const auto run = [](const std::string &solver) {
       fem::RodModel m(
           fem_scene({"FEM/Linear solver=" + solver, "FEM/Linear tolerance=0.9", "FEM/Maximum iterations=3",
-                     "FEM/Step error=0"})); // fixed steps, so that both runs cut the same ones
+                     "FEM/Step error=0",             // fixed steps, so that both runs cut the same ones
+                     "FEM/Newton tolerance=1e-8"})); // that 3 slow iterations do not reach
       for (int i = 0; i < 200; ++i)
         m.step();
       return std::make_tuple(fem::RodModelProbe::retried_steps(m), m.n_step_cuts(), m.time());

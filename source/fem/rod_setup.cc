@@ -340,6 +340,19 @@ namespace wirefem::fem
       return {solver == scene::LinearSolver::kept_factors,
               dynamic && (solver == scene::LinearSolver::automatic || solver == scene::LinearSolver::band)};
     }
+
+    /// FEM/Newton tolerance, relative to the force scale; 0: 1e-6 under
+    /// generalized-alpha, whose steps' own error is far larger (on the
+    /// classic scene at f = 25 a fifth fewer Newton iterations than 1e-8,
+    /// phi at jamming and loops within the seed spread:
+    /// docs/notes/2026-12-07-newton-slow-iterations.md), 1e-8 where each
+    /// step is an equilibrium (quasi-static steps, the capstan).
+    double newton_tolerance_of(const double key, const scene::Integrator integrator)
+    {
+      if (key > 0)
+        return key;
+      return integrator == scene::Integrator::generalized_alpha ? 1e-6 : 1e-8;
+    }
   } // namespace
 
   void RodModel::Impl::build_integrator(const scene::RodScene &s)
@@ -352,7 +365,7 @@ namespace wirefem::fem
     const auto integrator = clamped || capstan ? scene::Integrator::quasi_static : s.fem.integrator;
     inertia = integrator != scene::Integrator::quasi_static;
     quasi_static_injection = !inertia && !clamped && !capstan;
-    newton_tolerance = s.fem.newton_tolerance * w.axial_stiffness;
+    newton_tolerance = newton_tolerance_of(s.fem.newton_tolerance, integrator) * w.axial_stiffness;
     std::tie(kept_factors, band_solver) = linear_solver_choice(
         clamped || capstan ? scene::LinearSolver::refactorise : s.fem.linear_solver, integrator);
     // Its reused factors must come from direct solves of this step.
@@ -376,7 +389,7 @@ namespace wirefem::fem
       {
         // Full Newton steps, on the scale of the end force.
         force_scale = s.capstan.end_force;
-        newton_tolerance = s.fem.newton_tolerance * force_scale;
+        newton_tolerance = newton_tolerance_of(s.fem.newton_tolerance, integrator) * force_scale;
         line_search = false;
       }
     if (inertia)

@@ -27,7 +27,7 @@ L, plotted against its wall time (work_precision.png). The reference's own
 uncertainty is estimated by its difference from the FEM at h = 1/4; errors
 below that are not resolved. The FEM's other knobs, its time step
 (`FEM/Time step`, 0.025 here: injection.prm fixes the steps), its Newton
-tolerance (`FEM/Newton tolerance`, default 1e-8 of EA) and the step error
+tolerance (`FEM/Newton tolerance`, 1e-8 of EA here, 1e-6 in the scenes) and the step error
 control (`FEM/Step error`, the scenes' default 0.01, off here), are varied one at a time on the
 reference's own discretisation, so that their rows' errors are theirs
 alone; the finest of each also bounds what the reference's own time step

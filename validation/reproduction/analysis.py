@@ -75,7 +75,9 @@ FAST = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring", "FEM
         "label": "fem, the chain's friction law at the wall and between wires, FEM/Step error = 1e-2, "
                  "FEM/Linear solver = refactorise"}
 # The FEM as a scene gets it, with no keys named.
-DEFAULTS = {"sets": [], "label": "fem, the defaults (FEM/Linear solver = auto)"}
+# (Runs are reused by their keys: when a default changes, delete these
+# runs so that they are made again.)
+DEFAULTS = {"sets": [], "label": "fem, the defaults (FEM/Linear solver = auto, Newton tolerance 1e-6 of EA)"}
 STUDIES = {
     "fig5": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
     "elastic": {"scene": "elastic", "model": "discrete", "radius": 25, "seeds": range(1, 10)},

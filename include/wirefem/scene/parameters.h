@@ -271,7 +271,7 @@ namespace wirefem::scene
     double spectral_radius = 0.9; ///< rho_infinity of generalized-alpha
     double time_step = 0.0;       ///< first (and largest) step; 0: automatic
     double minimum_time_step = 1e-7;
-    double newton_tolerance = 1e-8; ///< on the residual norm relative to the force scale
+    double newton_tolerance = 0.0; ///< on the residual norm relative to the force scale; 0: by the integrator
     unsigned int maximum_iterations = 15;
     bool velocity_predictor = true;  ///< Newton starts from u + h v, not u + h v + h^2 a / 2
     double overlap_growth = 0.0;     ///< d per step before a converged step is cut; 0: off
