@@ -76,7 +76,7 @@ FAST = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring", "FEM
                  "FEM/Linear solver = refactorise"}
 # The FEM as a scene gets it, with no keys named.
 # (Runs are reused by their keys: when a default changes, delete these
-# runs so that they are made again.)
+# runs, in OUTDIR and in the archive runs/, so that they are made again.)
 DEFAULTS = {"sets": [], "label": "fem, the defaults (FEM/Linear solver = auto, Newton tolerance 1e-6 of EA)"}
 STUDIES = {
     "fig5": {"scene": "fig5", "model": "discrete", "radius": 25, "seeds": range(1, 10)},
