@@ -1127,6 +1127,20 @@ namespace
     return worst;
   }
 
+  TEST(RodModel, NewtonToleranceFollowsTheIntegratorUnlessSet)
+  {
+    // FEM/Newton tolerance = 0 (the default): 1e-6 of EA (1000 here) with
+    // generalized-alpha, 1e-8 with quasi-static steps; a value set holds
+    // under either.
+    const auto tolerance = [](const std::vector<std::string> &keys) {
+      return fem::RodModelProbe::newton_tolerance(fem::RodModel(fem_scene(keys)));
+    };
+    EXPECT_DOUBLE_EQ(tolerance({}), 1e-3);
+    EXPECT_DOUBLE_EQ(tolerance({"FEM/Integrator=quasi-static"}), 1e-5);
+    EXPECT_DOUBLE_EQ(tolerance({"FEM/Newton tolerance=1e-7"}), 1e-4);
+    EXPECT_DOUBLE_EQ(tolerance({"FEM/Newton tolerance=1e-7", "FEM/Integrator=quasi-static"}), 1e-4);
+  }
+
   TEST(RodModel, NewtonConvergesQuadratically)
   {
     // Order estimates log(e_{k+1}/e_k) / log(e_k/e_{k-1}) from the last three

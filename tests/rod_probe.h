@@ -156,6 +156,8 @@ namespace wirefem::fem
     /// FEM/Overlap growth, and the step cap they are measured against.
     static unsigned long overlap_cuts(const RodModel &rod) { return rod.impl->overlap_cuts; }
     static double step_cap(const RodModel &rod) { return rod.impl->dt_max; }
+    /// Newton's tolerance on the residual's max norm (force).
+    static double newton_tolerance(const RodModel &rod) { return rod.impl->newton_tolerance; }
     /// FEM/Step error: the last step's local error estimate, the steps made
     /// again for it; the length of the next step, to be set by a test.
     static double error_estimate(const RodModel &rod) { return rod.impl->error_estimate; }
