@@ -267,14 +267,14 @@ namespace wirefem::fem
     unsigned int step_tangents = 0; ///< tangents factorised in the last step
     /// Solves with the factors of the last factorise_K().
     bool solve_factorised(const dealii::Vector<double> &rhs, dealii::Vector<double> &x);
-    /// K's pattern: the elements of the free range [sp_first, sp_last) and
-    /// the contact pairs sp_pairs (sorted), the candidates within
-    /// pattern_margin of contact when it was built (evaluate()); only these
-    /// can touch before it is built again (others would be zeros that the
-    /// factorisation fills in). It is part of the checkpoint (load() builds
-    /// it), so a resumed run orders and rounds as the uninterrupted one.
+    /// K's pattern: the elements of the free range [sp_first, sp_last) and the contact pairs sp_pairs
+    /// (sorted), the candidates within pattern_margin of contact when it was built; only these can touch
+    /// until it is built again. The checkpoint holds it, so a resumed run rounds as one not resumed.
     int sp_first = -1, sp_last = -1;
     std::vector<contact::SegmentPair> sp_pairs;
+    std::vector<std::vector<int>> sp_adjacent; ///< pattern_rows' scratch, kept for its capacity
+    void pattern_rows(int first, int last, const std::vector<contact::SegmentPair> &pairs,
+                      std::vector<int> &row_start, std::vector<int> &columns); ///< K's rows (CSR)
     double pattern_margin = 0;
     /// A pair's chord distance at `u` (its boxes' gap once that reaches cutoff); closer_than: below cutoff.
     double chord_gap(const dealii::Vector<double> &u, const contact::SegmentPair &pr, double cutoff) const;

@@ -58,11 +58,19 @@ namespace wirefem::fem
     void add_block(const int *dofs, const int *component, const int n, const double *block,
                    const double scale)
     {
+      // A node's first column in row i is first sought where it sat in
+      // the row before, shifted by the rows' starts (rows of one node hold
+      // the same columns), and bisected for when it is not there.
+      constexpr int most = 18;
+      assert(n <= most);
+      int start_of[most] = {};
+      int previous_row = -1;
       for (int a = 0; a < n; ++a)
         {
           const int i = dofs[a];
           if (i < 0)
             continue;
+          const int shift = previous_row < 0 ? 0 : starts[i] - starts[previous_row];
           int node_start = -1, node_first = -1;
           for (int b = 0; b < n; ++b)
             {
@@ -73,12 +81,17 @@ namespace wirefem::fem
               if (first != node_first)
                 {
                   node_first = first;
-                  node_start = find(i, first);
+                  const int guess = start_of[b] + shift;
+                  node_start = previous_row >= 0 && guess < starts[i + 1] && cols[guess] == first
+                                   ? guess
+                                   : find(i, first);
                   assert(node_start >= 0);
                 }
+              start_of[b] = node_start;
               assert(cols[node_start + component[b]] == j);
               vals[node_start + component[b]] += scale * block[a * n + b];
             }
+          previous_row = i;
         }
     }
 
