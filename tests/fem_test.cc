@@ -707,6 +707,67 @@ namespace
     EXPECT_FALSE(fem::point_segment_spring_friction(s, w, ratio, far, far, dt, {}, none, sf));
   }
 
+  // The self contact's spring-law friction derived by hand against the same
+  // law by automatic differentiation: nodes against the segment's middle and
+  // past either end (t clamped), sticking and sliding, moving segments, the
+  // friction weighted in the tangent; without a tangent the residual alone.
+  TEST(FemContact, SpringLawSelfFrictionByHandIsTheAutomaticDerivative)
+  {
+    const double dt = 0.1, ratio = 0.2, w = 0.7, scale = 1.7;
+    const auto s = settings(true);
+    std::mt19937 gen(5);
+    std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+    int sliding = 0, sticking = 0, clamped = 0, inside = 0;
+    for (const Vec2 node : {Vec2{0.4, 0.85}, Vec2{0.7, -0.6}, Vec2{-0.3, 0.5}, Vec2{1.4, 0.6}})
+      for (const double step : {1e-4, 0.05, 1.5})
+        for (const contact::FrictionHistory old :
+             {contact::FrictionHistory{0.01, false}, contact::FrictionHistory{-0.3, true}})
+          {
+            const std::array<Vec2, 3> x{{node + Vec2{jitter(gen), jitter(gen)},
+                                         Vec2{jitter(gen), jitter(gen)},
+                                         Vec2{1.0 + jitter(gen), 0.1 + jitter(gen)}}};
+            const std::array<Vec2, 3> x_old{
+                {x[0] - Vec2{step, -0.4 * step}, x[1] - Vec2{0.01, -0.02}, x[2] - Vec2{0.03 * step, 0.01}}};
+            fem::ContactContribution hand, ad, lean;
+            fem::SpringFriction f_hand, f_ad, f_lean;
+            const bool touches =
+                fem::point_segment_spring_friction(s, w, ratio, x, x_old, dt, old, hand, f_hand, scale);
+            ASSERT_EQ(touches, fem::point_segment_spring_friction_by_ad(s, w, ratio, x, x_old, dt, old, ad,
+                                                                        f_ad, scale));
+            ASSERT_TRUE(touches) << node.x << " " << node.y;
+            lean.want_tangent = false;
+            ASSERT_TRUE(
+                fem::point_segment_spring_friction(s, w, ratio, x, x_old, dt, old, lean, f_lean, scale));
+            const double size = s.stiffness;
+            for (int i = 0; i < 6; ++i)
+              {
+                EXPECT_NEAR(hand.residual[i], ad.residual[i], 1e-12 * size);
+                EXPECT_EQ(hand.friction_residual[i], hand.residual[i]);
+                EXPECT_EQ(lean.residual[i], hand.residual[i]);
+              }
+            for (int i = 0; i < 36; ++i)
+              {
+                EXPECT_NEAR(hand.tangent[i], ad.tangent[i], 1e-10 * std::abs(ad.tangent[i]) + 1e-12 * size)
+                    << node.x << " " << node.y << " " << step << " " << i;
+                EXPECT_EQ(lean.tangent[i], 0.0);
+              }
+            EXPECT_EQ(hand.overlap, ad.overlap);
+            EXPECT_EQ(hand.normal_force, ad.normal_force);
+            EXPECT_EQ(f_hand.history.elongation, f_ad.history.elongation);
+            EXPECT_EQ(f_hand.history.sliding, f_ad.history.sliding);
+            EXPECT_EQ(f_hand.dissipated, f_ad.dissipated);
+            ++(f_hand.history.sliding ? sliding : sticking);
+            // The node's projection on the segment's line, past an end or not.
+            const Vec2 e = x[2] - x[1];
+            const double t = dot(x[0] - x[1], e) / dot(e, e);
+            ++(t <= 0.0 || t >= 1.0 ? clamped : inside);
+          }
+    EXPECT_GT(sliding, 0);
+    EXPECT_GT(sticking, 0);
+    EXPECT_GT(clamped, 0);
+    EXPECT_GT(inside, 0);
+  }
+
   // A contact on N points: its residual is the gradient of its energy
   // (without friction) and its tangent the derivative of its residual, by
   // central differences in every coordinate. contribution(x, out) is the

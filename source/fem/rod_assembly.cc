@@ -260,6 +260,7 @@ namespace wirefem::fem
     const std::array<Vec2, 3> x{{position(*rq.u, node), position(*rq.u, seg), position(*rq.u, seg + 1)}};
     const std::array<Vec2, 3> x_old{{position(u, node), position(u, seg), position(u, seg + 1)}};
     ContactContribution fc;
+    fc.want_tangent = rq.want_tangent;
     SpringFriction sf;
     if (!point_segment_spring_friction(
             self_settings, 0.5 * node_weight(node), scene.contact.friction.tangential_stiffness_ratio, x,

@@ -1,10 +1,11 @@
 // The discrete model's friction law on a self contact of the rod FEM
-// (FEM/Self friction law = spring), with its tangent by automatic
-// differentiation.
+// (FEM/Self friction law = spring), with its tangent derived by hand and,
+// as the tests' oracle, by automatic differentiation.
 #include <wirefem/fem/contact_element.h>
 
 #include <Sacado.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace wirefem::fem
@@ -20,11 +21,11 @@ namespace wirefem::fem
     };
   } // namespace
 
-  bool point_segment_spring_friction(const ContactSettings &s, const double weight,
-                                     const double stiffness_ratio, const std::array<Vec2, 3> &x,
-                                     const std::array<Vec2, 3> &x_old, const double dt,
-                                     const contact::FrictionHistory &old, ContactContribution &out,
-                                     SpringFriction &friction, const double friction_scale)
+  bool point_segment_spring_friction_by_ad(const ContactSettings &s, const double weight,
+                                           const double stiffness_ratio, const std::array<Vec2, 3> &x,
+                                           const std::array<Vec2, 3> &x_old, const double dt,
+                                           const contact::FrictionHistory &old, ContactContribution &out,
+                                           SpringFriction &friction, const double friction_scale)
   {
     P p[3];
     for (int m = 0; m < 3; ++m)
@@ -67,6 +68,116 @@ namespace wirefem::fem
       }
     out.overlap = s.diameter - dist.val();
     out.normal_force = fn.val();
+    return true;
+  }
+
+  namespace
+  {
+    /// A node against a segment: the segment e = x2 - x1, the node from its
+    /// start w = x0 - x1, the parameter t of the closest point (clamped: t
+    /// at an end), the gap d = w - t e (length dist), the contact tangent
+    /// tau, each point's move over the step (mx, my), the slip vector s.
+    struct NodeOnSegment
+    {
+      double ex, ey, wx, wy, length2, t;
+      bool clamped;
+      double dx, dy, dist, tx, ty;
+      double mx[3], my[3], sx, sy;
+    };
+
+    /// d r / dq of r_m = -share_m ft tau (m = 0, 1, 2: the node, the
+    /// segment's ends; share = (1, -(1 - t), -t)) in q = (x0, y0, x1, y1,
+    /// x2, y2), times friction_scale. ft is -kt (elongation + slip) while
+    /// sticking (slide = 0), else slide k (D - dist).
+    void spring_friction_tangent(const NodeOnSegment &g, const double k, const double kt, const double slide,
+                                 const double ft, const double friction_scale, ContactContribution &out)
+    {
+      const double t = g.t, share[3] = {1.0, -(1.0 - t), -t};
+      // t = (w . e) / |e|^2, constant where clamped.
+      double dt_dq[6] = {};
+      if (!g.clamped)
+        {
+          dt_dq[0] = g.ex / g.length2;
+          dt_dq[1] = g.ey / g.length2;
+          dt_dq[2] = (-g.ex - g.wx + 2.0 * t * g.ex) / g.length2;
+          dt_dq[3] = (-g.ey - g.wy + 2.0 * t * g.ey) / g.length2;
+          dt_dq[4] = (g.wx - 2.0 * t * g.ex) / g.length2;
+          dt_dq[5] = (g.wy - 2.0 * t * g.ey) / g.length2;
+        }
+      // d d / dq = [I, -(1 - t) I, -t I] - e (dt/dq); d s / dq = [I, -(1 - t) I,
+      // -t I] + (m1 - m2) (dt/dq); n = d / |d|, dn = (I - n n^T) dd / |d|;
+      // tau = (-n_y, n_x).
+      const double nx = g.dx / g.dist, ny = g.dy / g.dist;
+      double dft[6], dtau[2][6];
+      for (int j = 0; j < 6; ++j)
+        {
+          const double c = share[j / 2], cx = j % 2 == 0 ? c : 0.0, cy = j % 2 == 1 ? c : 0.0;
+          const double ddx = cx - g.ex * dt_dq[j], ddy = cy - g.ey * dt_dq[j];
+          const double dsx = cx + (g.mx[1] - g.mx[2]) * dt_dq[j], dsy = cy + (g.my[1] - g.my[2]) * dt_dq[j];
+          const double ddist = nx * ddx + ny * ddy;
+          const double dnx = (ddx - nx * ddist) / g.dist, dny = (ddy - ny * ddist) / g.dist;
+          dtau[0][j] = -dny;
+          dtau[1][j] = dnx;
+          const double dslip = g.tx * dsx + g.ty * dsy + g.sx * dtau[0][j] + g.sy * dtau[1][j];
+          dft[j] = slide == 0.0 ? -kt * dslip : slide * (-k * ddist);
+        }
+      const double tau[2] = {g.tx, g.ty};
+      for (int m = 0; m < 3; ++m)
+        for (int a = 0; a < 2; ++a)
+          for (int j = 0; j < 6; ++j)
+            {
+              const double dshare = m == 0 ? 0.0 : m == 1 ? dt_dq[j] : -dt_dq[j];
+              out.tangent[(2 * m + a) * 6 + j] =
+                  -friction_scale * (tau[a] * (ft * dshare + share[m] * dft[j]) + share[m] * ft * dtau[a][j]);
+            }
+    }
+  } // namespace
+
+  bool point_segment_spring_friction(const ContactSettings &s, const double weight,
+                                     const double stiffness_ratio, const std::array<Vec2, 3> &x,
+                                     const std::array<Vec2, 3> &x_old, const double dt,
+                                     const contact::FrictionHistory &old, ContactContribution &out,
+                                     SpringFriction &friction, const double friction_scale)
+  {
+    // The values in the order of the oracle's operations (above).
+    NodeOnSegment g;
+    g.ex = x[2].x - x[1].x, g.ey = x[2].y - x[1].y, g.wx = x[0].x - x[1].x, g.wy = x[0].y - x[1].y;
+    g.length2 = g.ex * g.ex + g.ey * g.ey;
+    const double t_line = (g.wx * g.ex + g.wy * g.ey) / g.length2;
+    g.clamped = t_line <= 0.0 || t_line >= 1.0;
+    const double t = g.t = std::clamp(t_line, 0.0, 1.0);
+    g.dx = x[0].x - (x[1].x + t * g.ex), g.dy = x[0].y - (x[1].y + t * g.ey);
+    g.dist = std::sqrt(g.dx * g.dx + g.dy * g.dy);
+    if (g.dist >= s.diameter || g.dist < 1e-12 * s.diameter)
+      return false;
+    const bool want_tangent = out.want_tangent;
+    out = ContactContribution{};
+    out.want_tangent = want_tangent;
+    out.n_points = 3;
+    const double k = s.stiffness * weight, kt = stiffness_ratio * k;
+    const double fn = k * (s.diameter - g.dist);
+    g.tx = -g.dy / g.dist, g.ty = g.dx / g.dist;
+    // The slip: the node's move less the closest point's, along tau.
+    for (int m = 0; m < 3; ++m)
+      {
+        g.mx[m] = x[m].x - x_old[m].x;
+        g.my[m] = x[m].y - x_old[m].y;
+      }
+    g.sx = g.mx[0] - (1.0 - t) * g.mx[1] - t * g.mx[2], g.sy = g.my[0] - (1.0 - t) * g.my[1] - t * g.my[2];
+    const double slip = g.sx * g.tx + g.sy * g.ty;
+    const double slide = spring_step(s, kt, fn, slip, dt, old, friction);
+    const double ft = slide == 0.0 ? -kt * (old.elongation + slip) : slide * fn;
+    // Force ft tau on the node, -(1 - t) ft tau and -t ft tau on the ends.
+    const double share[3] = {1.0, -(1.0 - t), -t};
+    for (int m = 0; m < 3; ++m)
+      {
+        out.residual[2 * m] = out.friction_residual[2 * m] = -share[m] * ft * g.tx;
+        out.residual[2 * m + 1] = out.friction_residual[2 * m + 1] = -share[m] * ft * g.ty;
+      }
+    out.overlap = s.diameter - g.dist;
+    out.normal_force = fn;
+    if (want_tangent)
+      spring_friction_tangent(g, k, kt, slide, ft, friction_scale, out);
     return true;
   }
 } // namespace wirefem::fem

@@ -130,12 +130,20 @@ namespace wirefem::fem
   /// tau the contact tangent at x, capped at mu_st F_n while sticking and
   /// mu_d F_n while sliding. out holds only friction: its residual equals
   /// its friction residual, and its tangent is friction_scale times the
-  /// residual's derivative. Returns false when the point does not touch.
+  /// residual's derivative (left zero when out.want_tangent is false).
+  /// Returns false when the point does not touch.
   bool point_segment_spring_friction(const ContactSettings &s, double weight, double stiffness_ratio,
                                      const std::array<core::Vec2, 3> &x,
                                      const std::array<core::Vec2, 3> &x_old, double dt,
                                      const contact::FrictionHistory &old, ContactContribution &out,
                                      SpringFriction &friction, double friction_scale = 1.0);
+  /// The same by automatic differentiation (the tests' oracle for the
+  /// tangent derived by hand); it always fills the tangent.
+  bool point_segment_spring_friction_by_ad(const ContactSettings &s, double weight, double stiffness_ratio,
+                                           const std::array<core::Vec2, 3> &x,
+                                           const std::array<core::Vec2, 3> &x_old, double dt,
+                                           const contact::FrictionHistory &old, ContactContribution &out,
+                                           SpringFriction &friction, double friction_scale = 1.0);
 
   /// Point x[0] against the segment x[1]-x[2] (the closest point of the
   /// segment, clamped to its ends). t: the segment parameter of the closest
