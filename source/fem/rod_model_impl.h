@@ -193,7 +193,7 @@ namespace wirefem::fem
     static constexpr double qs_push = 0.25;   ///< d
     static constexpr double qs_again = 0.025; ///< d: a snap this near the last one is where it was
     double qs_dt_max = 0, dynamic_dt_max = 0;
-    static constexpr double qs_calm = 1e-4;
+    static constexpr double qs_calm = 1e-3;
     static constexpr unsigned long qs_calm_steps = 10;
     /// Generalized-alpha's parameters of the dynamic phases.
     double dyn_alpha_m = 0, dyn_alpha_f = 0, dyn_beta = 0.25, dyn_gamma = 0.5;
