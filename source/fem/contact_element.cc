@@ -352,38 +352,6 @@ namespace wirefem::fem
 
   namespace
   {
-    /// Where the closest point of x[1]-x[2] to x[0] lies (n == 3; a point
-    /// against a point, n == 2, has t = 0): e = x2 - x1, t clamped to [0, 1],
-    /// and dt/dx_j (zero when clamped).
-    struct ClosestParameter
-    {
-      Vec2 e{0.0, 0.0};
-      double t = 0.0;
-      std::array<Vec2, 3> dt{};
-    };
-
-    ClosestParameter closest_parameter(const int n, const Vec2 *x)
-    {
-      ClosestParameter p;
-      if (n != 3)
-        return p;
-      p.e = x[2] - x[1];
-      const Vec2 w = x[0] - x[1];
-      const double ee = dot(p.e, p.e);
-      p.t = dot(w, p.e) / ee;
-      if (p.t <= 0.0)
-        p.t = 0.0;
-      else if (p.t >= 1.0)
-        p.t = 1.0;
-      else
-        {
-          p.dt[0] = (1.0 / ee) * p.e;
-          p.dt[2] = (1.0 / ee) * (w - 2.0 * p.t * p.e);
-          p.dt[1] = -1.0 * (p.dt[0] + p.dt[2]);
-        }
-      return p;
-    }
-
     /// Whether x[0] is farther than d from the segment x[1]-x[2] (n == 3) or the point x[1]
     /// (n == 2) by 1e-12 d^2, from the squared distance (no square root; t: as closest_parameter's).
     bool clearly_apart(const double d, const int n, const Vec2 *x, double &t)
@@ -447,7 +415,7 @@ namespace wirefem::fem
     {
       if (clearly_apart(s.diameter, n, x, t_out))
         return apart(out, n);
-      const ClosestParameter cp = closest_parameter(n, x);
+      const detail::ClosestParameter cp = detail::closest_parameter(n, x);
       const Vec2 e = cp.e;
       const double t = cp.t;
       const std::array<Vec2, 3> &dt = cp.dt; // dt / dx_j

@@ -1,11 +1,12 @@
 // The discrete model's friction law on a self contact of the rod FEM
 // (FEM/Self friction law = spring), with its tangent derived by hand and,
 // as the tests' oracle, by automatic differentiation.
+#include "contact_internal.h"
+
 #include <wirefem/fem/contact_element.h>
 
 #include <Sacado.hpp>
 
-#include <algorithm>
 #include <cmath>
 
 namespace wirefem::fem
@@ -73,14 +74,13 @@ namespace wirefem::fem
 
   namespace
   {
-    /// A node against a segment: the segment e = x2 - x1, the node from its
-    /// start w = x0 - x1, the parameter t of the closest point (clamped: t
-    /// at an end), the gap d = w - t e (length dist), the contact tangent
-    /// tau, each point's move over the step (mx, my), the slip vector s.
+    /// A node against a segment: where its closest point lies (e = x2 -
+    /// x1, t, dt/dx_j), the gap d = x0 - (x1 + t e) (length dist), the
+    /// contact tangent tau, each point's move over the step (mx, my) and
+    /// the slip vector s.
     struct NodeOnSegment
     {
-      double ex, ey, wx, wy, length2, t;
-      bool clamped;
+      detail::ClosestParameter cp;
       double dx, dy, dist, tx, ty;
       double mx[3], my[3], sx, sy;
     };
@@ -92,27 +92,18 @@ namespace wirefem::fem
     void spring_friction_tangent(const NodeOnSegment &g, const double k, const double kt, const double slide,
                                  const double ft, const double friction_scale, ContactContribution &out)
     {
-      const double t = g.t, share[3] = {1.0, -(1.0 - t), -t};
-      // t = (w . e) / |e|^2, constant where clamped.
-      double dt_dq[6] = {};
-      if (!g.clamped)
-        {
-          dt_dq[0] = g.ex / g.length2;
-          dt_dq[1] = g.ey / g.length2;
-          dt_dq[2] = (-g.ex - g.wx + 2.0 * t * g.ex) / g.length2;
-          dt_dq[3] = (-g.ey - g.wy + 2.0 * t * g.ey) / g.length2;
-          dt_dq[4] = (g.wx - 2.0 * t * g.ex) / g.length2;
-          dt_dq[5] = (g.wy - 2.0 * t * g.ey) / g.length2;
-        }
+      const Vec2 e = g.cp.e;
+      const double t = g.cp.t, share[3] = {1.0, -(1.0 - t), -t};
       // d d / dq = [I, -(1 - t) I, -t I] - e (dt/dq); d s / dq = [I, -(1 - t) I,
       // -t I] + (m1 - m2) (dt/dq); n = d / |d|, dn = (I - n n^T) dd / |d|;
       // tau = (-n_y, n_x).
       const double nx = g.dx / g.dist, ny = g.dy / g.dist;
-      double dft[6], dtau[2][6];
+      double dt_dq[6], dft[6], dtau[2][6];
       for (int j = 0; j < 6; ++j)
         {
+          dt_dq[j] = j % 2 == 0 ? g.cp.dt[j / 2].x : g.cp.dt[j / 2].y;
           const double c = share[j / 2], cx = j % 2 == 0 ? c : 0.0, cy = j % 2 == 1 ? c : 0.0;
-          const double ddx = cx - g.ex * dt_dq[j], ddy = cy - g.ey * dt_dq[j];
+          const double ddx = cx - e.x * dt_dq[j], ddy = cy - e.y * dt_dq[j];
           const double dsx = cx + (g.mx[1] - g.mx[2]) * dt_dq[j], dsy = cy + (g.my[1] - g.my[2]) * dt_dq[j];
           const double ddist = nx * ddx + ny * ddy;
           const double dnx = (ddx - nx * ddist) / g.dist, dny = (ddy - ny * ddist) / g.dist;
@@ -139,21 +130,14 @@ namespace wirefem::fem
                                      const contact::FrictionHistory &old, ContactContribution &out,
                                      SpringFriction &friction, const double friction_scale)
   {
-    // The values in the order of the oracle's operations (above).
     NodeOnSegment g;
-    g.ex = x[2].x - x[1].x, g.ey = x[2].y - x[1].y, g.wx = x[0].x - x[1].x, g.wy = x[0].y - x[1].y;
-    g.length2 = g.ex * g.ex + g.ey * g.ey;
-    const double t_line = (g.wx * g.ex + g.wy * g.ey) / g.length2;
-    g.clamped = t_line <= 0.0 || t_line >= 1.0;
-    const double t = g.t = std::clamp(t_line, 0.0, 1.0);
-    g.dx = x[0].x - (x[1].x + t * g.ex), g.dy = x[0].y - (x[1].y + t * g.ey);
+    g.cp = detail::closest_parameter(3, x.data());
+    const double t = g.cp.t;
+    g.dx = x[0].x - (x[1].x + t * g.cp.e.x), g.dy = x[0].y - (x[1].y + t * g.cp.e.y);
     g.dist = std::sqrt(g.dx * g.dx + g.dy * g.dy);
     if (g.dist >= s.diameter || g.dist < 1e-12 * s.diameter)
       return false;
-    const bool want_tangent = out.want_tangent;
-    out = ContactContribution{};
-    out.want_tangent = want_tangent;
-    out.n_points = 3;
+    detail::start_contribution(out, 3);
     const double k = s.stiffness * weight, kt = stiffness_ratio * k;
     const double fn = k * (s.diameter - g.dist);
     g.tx = -g.dy / g.dist, g.ty = g.dx / g.dist;
@@ -176,7 +160,7 @@ namespace wirefem::fem
       }
     out.overlap = s.diameter - g.dist;
     out.normal_force = fn;
-    if (want_tangent)
+    if (out.want_tangent)
       spring_friction_tangent(g, k, kt, slide, ft, friction_scale, out);
     return true;
   }
