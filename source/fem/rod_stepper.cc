@@ -159,6 +159,7 @@ namespace wirefem::fem
   {
     if (clamped || capstan) // no self contact
       return true;
+    core::SectionTimer::Scope ts(timer, "contact search");
     const std::vector<Vec2> xs = node_positions(x);
     if (broad.covers(xs, first - 1, past(last)))
       return true;
