@@ -1305,6 +1305,40 @@ namespace
       }
   }
 
+  TEST(RodModel, SelfContactStiffnessScalesTheWireOnWirePenaltyOnly)
+  {
+    // FEM/Self contact stiffness: the penalty between wires is that multiple
+    // of k_n, the wall keeps k_n, and the fixed step's cap follows the
+    // stiffer contact's period. At 2 the assembled forces are still the
+    // gradient of the stored energy at states with self contact.
+    const auto stiffness = [](const std::vector<std::string> &keys) {
+      return fem::RodModelProbe::contact_stiffness(fem::RodModel(fem_scene(keys)));
+    };
+    EXPECT_EQ(stiffness({}), std::make_pair(2000.0, 2000.0));
+    EXPECT_EQ(stiffness({"FEM/Self contact stiffness=2"}), std::make_pair(2000.0, 4000.0));
+    EXPECT_EQ(stiffness({"FEM/Self contact stiffness=0.5", "Contact/Normal stiffness=1000"}),
+              std::make_pair(1000.0, 500.0));
+    const auto cap = [](const std::string &factor) {
+      return fem::RodModelProbe::step_cap(
+          fem::RodModel(fem_scene({"FEM/Step error=0", "FEM/Self contact stiffness=" + factor})));
+    };
+    EXPECT_DOUBLE_EQ(cap("0.5"), 0.025); // the wall's period: 0.028
+    EXPECT_DOUBLE_EQ(cap("4"), 0.4 * M_PI * std::sqrt(1.0 / 8000.0));
+    fem::RodModel m(fem_scene({"FEM/Self contact stiffness=2", "Wire/Plasticity/Enabled=false",
+                               "Contact/Friction/Static coefficient=0"}));
+    int checked = 0;
+    while (m.injected_length() < 45.0 && checked < 3)
+      {
+        m.step();
+        if (m.report().n_self_contacts > 0 && m.n_steps() % 11 == 0)
+          {
+            EXPECT_LT(fem::RodModelProbe::force_gradient_error(m), 1e-6) << "at L = " << m.injected_length();
+            ++checked;
+          }
+      }
+    EXPECT_EQ(checked, 3) << "too few steps with self contact";
+  }
+
   TEST(RodModel, ContactAlongTheElementKeepsTheWallOutOfTheChannels)
   {
     // Tangential channels lie along the wall: contact points on a segment

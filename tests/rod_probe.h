@@ -156,6 +156,11 @@ namespace wirefem::fem
     /// FEM/Overlap growth, and the step cap they are measured against.
     static unsigned long overlap_cuts(const RodModel &rod) { return rod.impl->overlap_cuts; }
     static double step_cap(const RodModel &rod) { return rod.impl->dt_max; }
+    /// The penalties per unit length the wall and the wire-wire contacts use.
+    static std::pair<double, double> contact_stiffness(const RodModel &rod)
+    {
+      return {rod.impl->wall_settings.stiffness, rod.impl->self_settings.stiffness};
+    }
     /// Newton's tolerance on the residual's max norm (force).
     static double newton_tolerance(const RodModel &rod) { return rod.impl->newton_tolerance; }
     /// FEM/Step error: the last step's local error estimate, the steps made

@@ -263,6 +263,7 @@ namespace wirefem::fem
     wall_settings.friction = con.wall_contact && (keep || fr.wall_static_coefficient > 0 || capstan);
     wall_settings.mouths = !channels.is_tangential(); // the capstan's cavity has the radial channels too
     wall_spring = s.fem.spring_friction;
+    self_settings.stiffness = con.normal_stiffness * s.fem.self_contact_stiffness;
     self_settings.mu_static = fr.static_coefficient;
     self_settings.mu_dynamic = fr.dynamic_coefficient;
     self_settings.friction = con.self_contact && (keep || fr.static_coefficient > 0);
@@ -301,6 +302,16 @@ namespace wirefem::fem
     gamma = generalized ? dyn_gamma : 0.5;
   }
 
+  namespace
+  {
+    /// The stiffer of the wall's and the wire-wire contacts' penalties per
+    /// length: it sets the shortest contact period.
+    double stiffest_contact(const scene::RodScene &s)
+    {
+      return s.contact.normal_stiffness * std::max(1.0, s.fem.self_contact_stiffness);
+    }
+  } // namespace
+
   double RodModel::Impl::default_step(const scene::RodScene &s) const
   {
     // Quasi-static injection steps by injected length: 0.025 d a step,
@@ -318,7 +329,7 @@ namespace wirefem::fem
       return std::min(0.25, 0.25 * diameter / s.injection.speed);
     // At most a fifth of a contact's period 2 pi sqrt(rho A / k_n) too (0.028
     // at the default k_n; at 10 k_n the ledger closes to 5e-4, not 2.3%).
-    const double contact_step = 0.4 * M_PI * std::sqrt(rhoA / s.contact.normal_stiffness);
+    const double contact_step = 0.4 * M_PI * std::sqrt(rhoA / stiffest_contact(s));
     return std::min({0.025, 0.025 * diameter / s.injection.speed, contact_step});
   }
 
@@ -415,7 +426,7 @@ namespace wirefem::fem
         const double m_t = rhoA * hm, m_r = rhoI * hm;
         const double w2 = std::max(4.0 * (section.EA + section.GA) / (m_t * hm),
                                    (section.GA * hm + 4.0 * w.bending_stiffness / hm) / m_r) +
-                          4.0 * s.contact.normal_stiffness * hm / m_t;
+                          4.0 * stiffest_contact(s) * hm / m_t;
         // A third of the limit: the first-order ledger closes to 0.7% (quick).
         dt_max = s.fem.time_step > 0 ? s.fem.time_step : (1.0 / 3.0) * 2.0 / std::sqrt(w2);
       }

@@ -289,6 +289,10 @@ namespace wirefem::scene
     /// Contact (wall and self): 0, at the nodes; n > 0, at n Gauss points
     /// of each segment of the wire along its element.
     unsigned int contact_points = 0;
+    /// Wire-wire contact: its penalty as a multiple of Contact/Normal
+    /// stiffness per side (1: two wires meet at k_n per length; 2: at the
+    /// chain's 2 k_n).
+    double self_contact_stiffness = 1.0;
     /// eta_a (force time): axial dashpot N_v = eta_a d(eps)/dt; from the
     /// scene file, or the discrete model's dashpot in its continuum limit
     /// (Discrete/Axial damping * lambda_0) when that is negative.
