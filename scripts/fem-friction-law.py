@@ -14,7 +14,6 @@ injection (the trace). Writes OUTDIR/friction-law.md and
 OUTDIR/friction-law.png.
 """
 import argparse
-import csv
 import os
 import statistics
 import sys
@@ -35,16 +34,12 @@ VARIANTS = {
 
 
 def run(wirefem, out, sets):
-    """One run into OUT with the keys SETS; a finished one is reused, an
-    interrupted one resumed."""
-    base = ["Output/Progress=off", "Output/VTU interval=0", "Wire/Plasticity/Enabled=false"]
-    return study.run(wirefem, os.path.join(ROOT, "prm", "classic.prm"), base + sets, out, reuse=True,
-                     log=out + ".log")
+    """One run of the elastic wire into OUT with the keys SETS; a finished
+    one is reused, an interrupted one resumed."""
+    return study.scene_run(wirefem, "classic.prm", ["Wire/Plasticity/Enabled=false"] + sets, out)
 
 
-def series(out):
-    with open(os.path.join(out, "series.csv")) as f:
-        return list(csv.DictReader(f))
+series = study.read_series
 
 
 def main():

@@ -1,6 +1,7 @@
 """What the validation drivers share: running wirefem on a prm file, the
 discretisations of both models, convergence orders and their checks, the
 results file and the convergence / work-precision figure."""
+import csv
 import json
 import math
 import os
@@ -84,6 +85,21 @@ def run(wirefem, prm, sets, out, reuse=False, log=None):
                 raise RuntimeError(f"{out}: wirefem stopped with exit status {rc} and no finished run; see {log}")
     with open(os.path.join(out, "summary.json")) as f:
         return json.load(f)
+
+
+def scene_run(wirefem, scene, sets, out):
+    """run() on prm/SCENE with the progress line and VTU files off: a
+    finished run in out is reused, an interrupted one resumed, and the
+    output goes to out.log."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    quiet = ["Output/Progress=off", "Output/VTU interval=0"]
+    return run(wirefem, os.path.join(root, "prm", scene), quiet + list(sets), out, reuse=True, log=out + ".log")
+
+
+def read_series(out):
+    """The rows of out/series.csv, each a dict of floats."""
+    with open(os.path.join(out, "series.csv")) as f:
+        return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
 
 
 def add_orders(rows, keys, skip=()):

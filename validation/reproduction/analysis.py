@@ -384,7 +384,9 @@ def report(outdir):
               "The rows `fem, FEM/Integrator = quasi-static` are the FEM without inertia, stepping by injected "
               "length (`docs/notes/2026-12-05-quasi-static-injection.md`): the quasi-static limit itself. On the "
               "Fig. 5 scene it jams 0.015 below the chain injected at 0.01; on the elastic scene 0.10 below it, "
-              "with regular cascades and wide gaps between them, which is not yet understood."]
+              "with regular cascades and wide gaps between them. There the chain's slips stay dynamic however "
+              "slowly it is injected; damped by a drag they take it half-way to the quasi-static FEM "
+              "(`docs/notes/2026-12-07-elastic-quasi-static-limit.md`)."]
     versions = sorted({v for r in results for v in r.get("versions", [])})
     lines += ["", f"Runs made by wirefem {', '.join(versions)}.", "",
               "The inlet force averaged over the realizations at f = 25 (the chain, and the quasi-static "
