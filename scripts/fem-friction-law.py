@@ -39,8 +39,6 @@ def run(wirefem, out, sets):
     return study.scene_run(wirefem, "classic.prm", ["Wire/Plasticity/Enabled=false"] + sets, out)
 
 
-series = study.read_series
-
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -59,10 +57,10 @@ def main():
         out = os.path.join(args.outdir, f"trace_{name}")
         run(wirefem, out, sets + radius + [f"Injection/Seed={args.seeds[0]}", "Output/Interval=0.03",
                                            "Injection/Maximum packing density=0.14"])
-        rows = series(out)
-        t = [float(r["time"]) for r in rows]
-        ax[0].plot(t, [float(r["force"]) for r in rows], lw=0.7, label=name.replace("_", ", "))
-        ax[1].plot(t, [float(r["energy_kinetic"]) for r in rows], lw=0.7)
+        rows = study.read_series(out)
+        t = [r["time"] for r in rows]
+        ax[0].plot(t, [r["force"] for r in rows], lw=0.7, label=name.replace("_", ", "))
+        ax[1].plot(t, [r["energy_kinetic"] for r in rows], lw=0.7)
     ax[0].set_ylabel("inlet force (mean of the channels)")
     ax[1].set_ylabel("kinetic energy")
     ax[1].set_xlabel("time")

@@ -33,8 +33,6 @@ import study  # noqa: E402
 COLUMNS = ["loops", "force", "energy_bending"]
 
 
-
-
 def at(rows, phi, key):
     """KEY in the first row at or past PHI (the last row if none)."""
     i = bisect.bisect_left([r["phi"] for r in rows], phi)

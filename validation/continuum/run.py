@@ -38,7 +38,6 @@ and tolerance leave.
 --reuse takes runs whose output directory already holds a summary.json
 instead of running them again (to redo the analysis and figures only).
 """
-import csv
 import os
 import sys
 
@@ -85,8 +84,8 @@ def interp(xs, ys, x):
 
 
 def read_series(out):
-    with open(os.path.join(out, "series.csv")) as f:
-        rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+    """out/series.csv as columns of numbers."""
+    rows = study.read_series(out)
     return {k: [r[k] for r in rows] for k in rows[0]}
 
 
