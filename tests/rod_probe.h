@@ -6,7 +6,10 @@
 
 #include "../source/fem/rod_model_impl.h"
 
+#include <deal.II/lac/lapack_full_matrix.h>
+
 #include <algorithm>
+#include <complex>
 #include <utility>
 #include <vector>
 
@@ -191,6 +194,43 @@ namespace wirefem::fem
       rod.impl->enter_dynamics();
     }
     static bool in_dynamic_phase(const RodModel &rod) { return rod.impl->dynamic_phase(); }
+
+    /// The eigenvalues of the tangent of the next quasi-static step taken
+    /// at the model's state now, an equilibrium at rest (friction sees no
+    /// slip: a sticking contact resists as it would a small disturbance),
+    /// without the dashpots, over the free dofs; without friction's part (the rod and the
+    /// contacts' normal forces alone) when `friction` is false. The model
+    /// is not advanced.
+    static std::vector<std::complex<double>> tangent_eigenvalues_at_rest(RodModel &rod, const bool friction)
+    {
+      auto &m = *rod.impl;
+      StepState x;
+      const AssemblyRequest rq = m.start_step(m.dt, x);
+      x.u1 = m.u;
+      x.update();
+      const auto wall = m.wall_settings, self = m.self_settings;
+      const bool wall_spring = m.wall_spring, self_spring = m.self_spring, viscous = m.viscous;
+      m.viscous = false; // a dashpot slows a disturbance down, it does not stop it
+      if (!friction)
+        {
+          m.wall_settings.friction = m.self_settings.friction = false;
+          m.wall_spring = m.self_spring = false;
+        }
+      Evaluation e;
+      m.evaluate(rq, e);
+      m.wall_settings = wall, m.self_settings = self;
+      m.wall_spring = wall_spring, m.self_spring = self_spring, m.viscous = viscous;
+      const int n = m.K.m();
+      dealii::LAPACKFullMatrix<double> k(n, n);
+      for (int i = 0; i < n; ++i)
+        for (int j = m.K.row_start()[i]; j < m.K.row_start()[i + 1]; ++j)
+          k(i, m.K.columns()[j]) = m.K.values()[j];
+      k.compute_eigenvalues();
+      std::vector<std::complex<double>> lambda(n);
+      for (int i = 0; i < n; ++i)
+        lambda[i] = k.eigenvalue(i);
+      return lambda;
+    }
     /// Newton iterations (linear solves) of all attempts, cut ones included.
     static unsigned long newton_iterations(const RodModel &rod) { return rod.impl->newton_iterations; }
 
