@@ -11,13 +11,15 @@ v<V>_f<F>_s<S>; run.sh next to this file makes them.
 
     validation/injection_statistics/analyze.py OUTDIR RUNS_DIR
 """
-import csv
 import json
 import math
 import os
 import re
 import statistics
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import study  # noqa: E402
 
 PHIS = (0.2, 0.3, 0.4)
 
@@ -47,8 +49,7 @@ def main():
             continue
         with open(os.path.join(path, "summary.json")) as f:
             s = json.load(f)
-        with open(os.path.join(path, "series.csv")) as f:
-            rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+        rows = study.read_series(path)
         key = (s["cavity_radius"], float(m.group(1)), float(m.group(2)))
         groups.setdefault(key, []).append({
             "seed": int(m.group(3)), "phi_final": s["phi_final"], "jammed": s["jammed"],

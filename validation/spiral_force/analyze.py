@@ -28,20 +28,16 @@ F_ts; figure and results.json in OUTDIR.
 
 (EI = 60, the value of prm/spiral.prm.)
 """
-import csv
 import json
 import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import study  # noqa: E402
+
 WINDOW = 0.05
 EI = 60.0  # the bending stiffness of prm/spiral.prm
-
-
-def read_series(run):
-    """The rows of a run's series.csv, as numbers."""
-    with open(os.path.join(run, "series.csv")) as f:
-        return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
 
 
 def stored_energy(row):
@@ -53,7 +49,7 @@ def tight_spiral_energy(phi):
 
 
 def read(run):
-    rows = read_series(run)
+    rows = study.read_series(run)
     with open(os.path.join(run, "summary.json")) as f:
         summary = json.load(f)
     return rows, summary
