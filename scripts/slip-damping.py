@@ -5,14 +5,16 @@ figure of loops, inlet force and bending energy against phi.
 
     scripts/slip-damping.py WIREFEM OUTDIR [--radius F] [--seed S]
                             [--speed V] [--gammas 0 0.1 1 3 10] [--plastic]
-                            [--at PHI]
+                            [--at PHI] [--fem-gammas G ...]
 
 Scene: prm/classic.prm at cavity radius F (15), the elastic wire unless
 --plastic. Runs (reused when finished, resumed when interrupted): the
 chain injected at speed V (0.003) with Discrete/Translational damping
 gamma for each of --gammas, and the FEM with FEM/Integrator =
-quasi-static. The drag also pulls on wire sliding along itself with
-gamma rho A V per length: keep gamma V small. Writes OUTDIR/slip-damping.md
+quasi-static; with --fem-gammas, also the dynamic FEM at speed V with
+FEM/Translational damping gamma (the same drag). The drag also pulls on
+wire sliding along itself with gamma rho A V per length: keep gamma V
+small. Writes OUTDIR/slip-damping.md
 and OUTDIR/slip-damping.png.
 """
 import argparse
@@ -49,6 +51,8 @@ def main():
     parser.add_argument("--gammas", type=float, nargs="+", default=[0, 0.1, 1, 3, 10])
     parser.add_argument("--plastic", action="store_true", help="the plastic wire of prm/classic.prm")
     parser.add_argument("--at", type=float, default=0.48, help="the packing density of the table's state")
+    parser.add_argument("--fem-gammas", type=float, nargs="*", default=[],
+                        help="the dynamic FEM at speed V with FEM/Translational damping gamma, for each")
     args = parser.parse_args()
     wirefem = os.path.abspath(args.wirefem)
     os.makedirs(args.outdir, exist_ok=True)
@@ -58,6 +62,9 @@ def main():
     variants = {f"chain, gamma {g:g}": (f"chain_gamma{g:g}", ["Model=discrete", f"Injection/Speed={args.speed:g}",
                                                                f"Discrete/Translational damping={g:g}"])
                 for g in args.gammas}
+    for g in args.fem_gammas:
+        variants[f"FEM, gamma {g:g}"] = (f"fem_gamma{g:g}", ["Model=fem", f"Injection/Speed={args.speed:g}",
+                                                           f"FEM/Translational damping={g:g}"])
     variants["quasi-static FEM"] = ("fem_quasi_static", ["Model=fem", "FEM/Integrator=quasi-static"])
 
     rows = [f"| run | phi at the end | stop | loops | symmetry | loops at {args.at:g} | inlet force | "
@@ -76,8 +83,9 @@ def main():
                     f"{at(r, args.at, 'energy_bending'):.0f} | {dissipated:.0f} |")
         phi = [x["phi"] for x in r]
         for a, key in zip(ax, COLUMNS):
-            a.plot(phi, [x[key] for x in r], lw=1.6 if "FEM" in label else 0.9, label=label,
-                   color="black" if "FEM" in label else None)
+            a.plot(phi, [x[key] for x in r], lw=1.6 if "quasi-static" in label else 0.9, label=label,
+                   color="black" if "quasi-static" in label else None,
+                   ls="--" if label.startswith("FEM") else "-")
     wire = "plastic (prm/classic.prm)" if args.plastic else "elastic"
     ax[0].set_title(f"{wire} wire, mu_st 5, f = {args.radius:g}, seed {args.seed}; "
                     f"chain at speed {args.speed:g}")

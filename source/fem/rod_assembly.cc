@@ -63,6 +63,8 @@ namespace wirefem::fem
         K.zero();
       }
     assemble_elements(rq, e);
+    if (drag > 0 && inertia)
+      assemble_drag(rq, e);
     if (clamped)
       {
         assemble_end_load(e);
@@ -193,6 +195,38 @@ namespace wirefem::fem
         e.bending += er.bending_energy;
         e.plastic += er.plastic_work;
       }
+  }
+
+  void RodModel::Impl::assemble_drag(const AssemblyRequest &rq, Evaluation &e)
+  {
+    // -gamma m v on the positions of the free nodes, m the lumped mass of
+    // the elements around a node (the discrete model's drag, m per node):
+    // a dissipative force at the end of the step, as the dashpots'.
+    const int lo = 3 * rq.first;
+    std::vector<double> row(n_local, 0.0), mass(3 * (rq.last - rq.first), 0.0);
+    for (unsigned int i = 0; i < n_local; ++i)
+      for (unsigned int j = 0; j < n_local; ++j)
+        row[i] += element_mass[i * n_local + j];
+    for (unsigned int cell = 0; cell < n_cells; ++cell)
+      for (unsigned int i = 0; i < n_local; ++i)
+        if (const int g = static_cast<int>(3 * cell_node[cell][i / 3] + i % 3) - lo;
+            g >= 0 && g < static_cast<int>(mass.size()))
+          mass[g] += row[i];
+    for (int k = rq.first; k < rq.last; ++k)
+      for (int c = 0; c < 2; ++c)
+        {
+          const int i = 3 * k + c;
+          const double m = drag * mass[i - lo];
+          const double f = m * (rq.c_vel * (*rq.u)[i] + (*rq.v0)[i]);
+          e.residual[i] += f;
+          e.dissipative[i] += f;
+          if (rq.want_tangent)
+            {
+              const int at = K.find(i - lo, i - lo);
+              const double d = m * rq.c_vel;
+              K.add_at(&at, 1, &d, 1.0);
+            }
+        }
   }
 
   void RodModel::Impl::assemble_wall(const AssemblyRequest &rq, Evaluation &e)

@@ -145,6 +145,7 @@ namespace wirefem::fem
     SectionProperties section;
     material::MomentCurvatureLaw law{1.0};
     bool plastic = false, viscous = false;
+    double drag = 0; ///< FEM/Translational damping gamma (1/time); 0: off
     ContactSettings wall_settings, self_settings;
     /// Wall (and self) friction by the discrete model's spring law (FEM/Friction
     /// law, FEM/Self friction law = spring): the springs of the last accepted step.
@@ -446,11 +447,11 @@ namespace wirefem::fem
       return 0.5 * (l + r);
     }
 
-    /// Assembles what the request asks for into e; with want_tangent the
-    /// matrix K (dofs of the free range) is filled. One function per
-    /// contribution, each adding to e and K.
+    /// Assembles what the request asks for into e; with want_tangent the matrix K (dofs of the free range)
+    /// is filled. One function per contribution, each adding to e and K.
     void evaluate(const AssemblyRequest &rq, Evaluation &e);
     void assemble_elements(const AssemblyRequest &rq, Evaluation &e);
+    void assemble_drag(const AssemblyRequest &rq, Evaluation &e); ///< FEM/Translational damping
     void assemble_wall(const AssemblyRequest &rq, Evaluation &e);
     /// The wall's spring law at wall site i (a node, or a contact point
     /// along the element) at position x standing for wire length `weight`.
@@ -557,8 +558,7 @@ namespace wirefem::fem
     /// returns the step's assembly request (the generalized-alpha weights
     /// of the mass and forces, the free range) at x.
     AssemblyRequest start_step(double step, StepState &x);
-    /// Newton's right-hand side over the free dofs: minus the blended
-    /// residual.
+    /// Newton's right-hand side over the free dofs: minus the blended residual.
     void newton_rhs(const Evaluation &ev, const AssemblyRequest &rq, dealii::Vector<double> &rhs) const;
     /// Called (when set) with the first assembly of each implicit step, at
     /// the predictor: the tests compare the tangent K there with finite

@@ -230,6 +230,7 @@ namespace wirefem::fem
     if (clamped || capstan)
       section.axial_viscosity = section.bending_viscosity = 0.0;
     viscous = section.axial_viscosity > 0 || section.bending_viscosity > 0;
+    drag = clamped || capstan ? 0.0 : s.fem.translational_damping;
     const auto &pl = w.plasticity;
     plastic = s.plastic_bending;
     law = plastic ? material::MomentCurvatureLaw(w.bending_stiffness, pl.yield_curvature, pl.hardening_slope,
@@ -242,7 +243,7 @@ namespace wirefem::fem
       effects.push_back("bending");
     if (plastic)
       effects.push_back("plasticity");
-    if (viscous)
+    if (viscous || drag > 0)
       effects.push_back("damping");
   }
 

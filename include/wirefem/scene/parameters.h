@@ -300,6 +300,9 @@ namespace wirefem::scene
     /// eta_b (force d^2 time): bending dashpot M_v = eta_b d(kappa)/dt;
     /// likewise from Discrete/Rotational damping * lambda_0 when negative.
     double bending_viscosity = -1.0;
+    /// gamma (1/time): drag -gamma m v on the free nodes' positions (m the
+    /// lumped nodal mass), as Discrete/Translational damping; with inertia.
+    double translational_damping = 0.0;
 
     /// The defaults that come from other sections or keys: the shear
     /// stiffness from EA, the dashpots from the discrete model's, the self
