@@ -43,6 +43,13 @@ def read_cells(sweep_dir):
     return cells
 
 
+def leaders(cell):
+    """The phases with most votes (several on a tie; empty if none voted)."""
+    votes = {phase: n for phase, n in cell.items() if phase in COLOURS}
+    top = max(votes.values(), default=0)
+    return {phase for phase, n in votes.items() if n == top and n > 0}
+
+
 def majority(cell):
     """The phase with most votes ('tie' if two share it, 'failed' if every
     finished run failed, None if none finished)."""
@@ -77,15 +84,18 @@ def features(cells):
     pairs = [(a, b) for a, b in neighbours(kappas, mus) if a in done and b in done]
     borders = [(a, b) for a, b in pairs if {done[a], done[b]} == {"spiral", "classic"}]
     # 2. Re-entrance: along kappa_theta at REENTRANT_MU, a plastic cell, a
-    # classic one above it and a plastic one above that.
+    # classic one above it and a plastic one above that. True or False when
+    # the majorities decide it; None while cells are to come, or while a
+    # tie (a cell whose leading phases share its votes) could go either way.
     reentrant = {}
     for m in mus:
         if not REENTRANT_MU[0] < m < REENTRANT_MU[1]:
             continue
         column = [done.get((k, m)) for k in kappas]
-        found = any(column[i] == "plastic" and column[j] == "classic" and "plastic" in column[j + 1:]
-                    for j in range(len(column)) for i in range(j))
-        reentrant[m] = (column, None if None in column and not found else found)
+        found = sequence(column, lambda c, phase: c == phase)
+        tops = [leaders(cells[(k, m)]) if (k, m) in done else set(COLOURS) for k in kappas]
+        possible = sequence(tops, lambda c, phase: phase in c)
+        reentrant[m] = (column, found if found or not possible else None)
     # 3. The smallest kappa_theta of a classic cell; final once every cell
     # below it is complete.
     classic = sorted(k for (k, m), p in done.items() if p == "classic")
@@ -95,6 +105,14 @@ def features(cells):
     return {"kappas": kappas, "mus": mus, "realizations": n, "done": done, "pairs": len(pairs),
             "borders": borders, "reentrant": reentrant, "smallest": smallest, "below": below,
             "settled": settled, "complete": len(done) == len(kappas) * len(mus) > 0}
+
+
+def sequence(column, holds):
+    """Whether some cells i < j < k of the column hold plastic, classic and
+    plastic (holds(cell, phase))."""
+    return any(holds(column[i], "plastic") and holds(column[j], "classic") and
+               any(holds(c, "plastic") for c in column[j + 1:])
+               for j in range(len(column)) for i in range(j))
 
 
 def neighbours(kappas, mus):
@@ -162,8 +180,13 @@ def section(outdir):
     else:
         rows.append("| no direct spiral-classic border | none | not yet: no two neighbouring cells complete |")
     for m, (column, yes) in sorted(f["reentrant"].items()):
-        seq = " -> ".join(p or "to come" for p in column)
-        verdict = "not yet complete" if yes is None else ("re-entrant" if yes else "**not re-entrant**")
+        seq = " -> ".join(tie_votes(cells[(k, m)]) if p == "tie" else (p or "to come")
+                          for k, p in zip(f["kappas"], column))
+        if yes is None:
+            verdict = ("not yet complete" if None in column else
+                       f"undecided with {f['realizations']} realizations: a tie could go either way")
+        else:
+            verdict = "re-entrant" if yes else "**not re-entrant**"
         rows.append(f"| re-entrance along kappa_theta at mu_st {m:g} | plastic -> classic -> plastic, 0.2 < mu_st "
                     f"< 0.35 | {verdict}: {seq} (kappa {', '.join(f'{k:g}' for k in f['kappas'])}) |")
     if f["smallest"] is None:
@@ -181,6 +204,11 @@ def section(outdir):
                     "grid's resolution) |")
     rows += ["", "![phase diagram](phase_f50.png)"]
     return rows
+
+
+def tie_votes(cell):
+    """'tie (1 spiral, 1 classic, ...)' for a cell whose leaders share its votes."""
+    return "tie (" + ", ".join(f"{cell[p]} {p}" for p in COLOURS if cell[p]) + ")"
 
 
 def differences(outdir):
@@ -230,6 +258,17 @@ def self_test():
     # Spiral below the classic stretch is not the paper's re-entrance.
     f = features(diagram(lambda k, m: "spiral" if m == 0.3 and k < 0.02 else paper_like(k, m)))
     assert [yes for _, yes in f["reentrant"].values()] == [False], f["reentrant"]
+    # Ties above the classic cell: one of them may be plastic, so the
+    # majorities do not decide it; a tie of spiral and classic cannot make
+    # it re-entrant.
+    cells = diagram(lambda k, m: "classic" if m == 0.3 and 0.02 < k < 0.1 else paper_like(k, m))
+    for k in (0.16, 0.3, 3.1416):
+        cells[(k, 0.3)] = collections.Counter({"finished": n, "spiral": 1, "classic": 1, "plastic": 1})
+    assert majority(cells[(0.16, 0.3)]) == "tie" and leaders(cells[(0.16, 0.3)]) == set(COLOURS)
+    assert [yes for _, yes in features(cells)["reentrant"].values()] == [None]
+    for k in (0.16, 0.3, 3.1416):
+        cells[(k, 0.3)] = collections.Counter({"finished": n, "failed": 1, "spiral": 1, "classic": 1})
+    assert [yes for _, yes in features(cells)["reentrant"].values()] == [False]
     # Cells still to come: nothing is decided from them.
     f = features(diagram(paper_like, missing={(0.01, 0.3), (0.01, 0.45)}))
     assert not f["complete"] and not f["settled"] and f["smallest"] == 0.027
