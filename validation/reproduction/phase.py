@@ -216,11 +216,13 @@ def differences(outdir):
     if not cells:
         return []
     f = features(cells)
+    rows = [f"- phase diagram (f 50): a spiral cell next to a classic one (the paper has no such border): "
+            f"(kappa {a[0]:g}, mu {a[1]:g}) and (kappa {b[0]:g}, mu {b[1]:g})." for a, b in f["borders"]]
     if f["smallest"] is None:
-        return ["- phase diagram (f 50): no classic cell among the complete ones yet."]
-    return [f"- phase diagram (f 50): the classic phase starts at kappa_theta {f['smallest']:g}, "
-            f"{f['smallest'] / PAPER_CLASSIC_KAPPA:.2g} times the paper's {PAPER_CLASSIC_KAPPA}"
-            f"{'' if f['settled'] else ' (provisional)'}."]
+        return rows + ["- phase diagram (f 50): no classic cell among the complete ones yet."]
+    return rows + [f"- phase diagram (f 50): the classic phase starts at kappa_theta {f['smallest']:g}, "
+                   f"{f['smallest'] / PAPER_CLASSIC_KAPPA:.2g} times the paper's {PAPER_CLASSIC_KAPPA}"
+                   f"{'' if f['settled'] else ' (provisional)'}."]
 
 
 def self_test():
