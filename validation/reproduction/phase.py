@@ -85,8 +85,9 @@ def features(cells):
     borders = [(a, b) for a, b in pairs if {done[a], done[b]} == {"spiral", "classic"}]
     # 2. Re-entrance: along kappa_theta at REENTRANT_MU, a plastic cell, a
     # classic one above it and a plastic one above that. True or False when
-    # the majorities decide it; None while cells are to come, or while a
-    # tie (a cell whose leading phases share its votes) could go either way.
+    # the majorities decide it whatever the cells still to come and the
+    # ties (cells whose leading phases share the votes) turn out to be;
+    # None while they could go either way.
     reentrant = {}
     for m in mus:
         if not REENTRANT_MU[0] < m < REENTRANT_MU[1]:
@@ -208,7 +209,8 @@ def section(outdir):
 
 def tie_votes(cell):
     """'tie (1 spiral, 1 classic, ...)' for a cell whose leaders share its votes."""
-    return "tie (" + ", ".join(f"{cell[p]} {p}" for p in COLOURS if cell[p]) + ")"
+    votes = [f"{cell[p]} {p}" for p in COLOURS if cell[p]] + ([f"{cell['failed']} failed"] if cell["failed"] else [])
+    return "tie (" + ", ".join(votes) + ")"
 
 
 def differences(outdir):
@@ -271,6 +273,7 @@ def self_test():
     for k in (0.16, 0.3, 3.1416):
         cells[(k, 0.3)] = collections.Counter({"finished": n, "failed": 1, "spiral": 1, "classic": 1})
     assert [yes for _, yes in features(cells)["reentrant"].values()] == [False]
+    assert tie_votes(cells[(0.16, 0.3)]) == "tie (1 spiral, 1 classic, 1 failed)"
     # Cells still to come: nothing is decided from them.
     f = features(diagram(paper_like, missing={(0.01, 0.3), (0.01, 0.45)}))
     assert not f["complete"] and not f["settled"] and f["smallest"] == 0.027
