@@ -203,20 +203,12 @@ namespace wirefem::fem
     // the elements around a node (the discrete model's drag, m per node):
     // a dissipative force at the end of the step, as the dashpots'.
     const int lo = 3 * rq.first;
-    std::vector<double> row(n_local, 0.0), mass(3 * (rq.last - rq.first), 0.0);
-    for (unsigned int i = 0; i < n_local; ++i)
-      for (unsigned int j = 0; j < n_local; ++j)
-        row[i] += element_mass[i * n_local + j];
-    for (unsigned int cell = 0; cell < n_cells; ++cell)
-      for (unsigned int i = 0; i < n_local; ++i)
-        if (const int g = static_cast<int>(3 * cell_node[cell][i / 3] + i % 3) - lo;
-            g >= 0 && g < static_cast<int>(mass.size()))
-          mass[g] += row[i];
+    const std::vector<double> mass = lumped_mass(rq.first, rq.last);
     for (int k = rq.first; k < rq.last; ++k)
       for (int c = 0; c < 2; ++c)
         {
           const int i = 3 * k + c;
-          const double m = drag * mass[i - lo];
+          const double m = drag * mass[i];
           const double f = m * (rq.c_vel * (*rq.u)[i] + (*rq.v0)[i]);
           e.residual[i] += f;
           e.dissipative[i] += f;

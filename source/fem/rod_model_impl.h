@@ -410,8 +410,7 @@ namespace wirefem::fem
     /// Quasi-static injection: relaxes the stretch of the start shape with
     /// the channels held, then opens the ledger.
     void relax_start();
-    /// The longest implicit step of the injection set-up when FEM/Time
-    /// step is 0.
+    /// The longest implicit step of the injection set-up when FEM/Time step is 0.
     double default_step(const scene::RodScene &s) const;
     /// The longest generalized-alpha step of the injection set-up.
     double dynamic_step(const scene::RodScene &s) const;
@@ -566,7 +565,8 @@ namespace wirefem::fem
     std::function<void(const AssemblyRequest &, StepState &)> predictor_probe;
     void explicit_step(double step);
     bool explicit_mode = false;
-    std::vector<double> lumped_element; // row sums of element_mass
+    std::vector<double> lumped_element;                         // row sums of element_mass
+    std::vector<double> lumped_mass(int first, int last) const; ///< per dof, the active cells' lumped_element
     double cell_kinetic(unsigned int c, const dealii::Vector<double> &vel) const;
     /// The channels' work over a step into `work` (left, right).
     void channel_work(const dealii::Vector<double> &u1, const Evaluation &e, int work_first, int work_last,

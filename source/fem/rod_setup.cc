@@ -209,6 +209,10 @@ namespace wirefem::fem
           for (unsigned int c = 0; c < 3; ++c)
             element_mass[(3 * i + c) * nd + 3 * j + c] += mass_shape.weight[q] * mass_shape.value(q, i) *
                                                           mass_shape.value(q, j) * (c < 2 ? rhoA : rhoI);
+    lumped_element.assign(nd, 0.0);
+    for (unsigned int i = 0; i < nd; ++i)
+      for (unsigned int j = 0; j < nd; ++j)
+        lumped_element[i] += element_mass[i * nd + j];
   }
 
   void RodModel::Impl::build_physics(const scene::RodScene &s)
@@ -418,11 +422,6 @@ namespace wirefem::fem
         // Central differences (symplectic Euler) with the row-sum lumped
         // mass: stable below 2 / omega_max; half of it by default.
         explicit_mode = true;
-        const unsigned int nd = n_local;
-        lumped_element.assign(nd, 0.0);
-        for (unsigned int i = 0; i < nd; ++i)
-          for (unsigned int j = 0; j < nd; ++j)
-            lumped_element[i] += element_mass[i * nd + j];
         const double hm = min_spacing;
         const double m_t = rhoA * hm, m_r = rhoI * hm;
         const double w2 = std::max(4.0 * (section.EA + section.GA) / (m_t * hm),

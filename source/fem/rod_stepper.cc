@@ -21,11 +21,7 @@ namespace wirefem::fem
     const dealii::Vector<double> zero(n);
     wall_time = t;
     evaluate({&u, &zero, &v, step, 0.0, first_free, last_free, false, 0.0, 1.0, 1.0}, e);
-    std::vector<double> mass(n, 0.0);
-    for (unsigned int c = 0; c < n_cells; ++c)
-      if (cell_active(c, first_free, last_free))
-        for (unsigned int i = 0; i < n_local; ++i)
-          mass[3 * cell_node[c][i / 3] + i % 3] += lumped_element[i];
+    const std::vector<double> mass = lumped_mass(first_free, last_free);
     dealii::Vector<double> u1(u), v1(v), a1(n);
     // The wire outside the inlets at t_n follows the channels to t_{n+1}.
     prescribe(t + step, u1, &v1, &a1, first_free, last_free);
@@ -52,6 +48,16 @@ namespace wirefem::fem
     const double friction_step = lightest / (2.0 * e.friction_damping);
     commit(step, first, last, u1, v1, a1, e, book(first, last, u1, v1, e, first_free, last_free));
     dt = std::min(dt_max, friction_step);
+  }
+
+  std::vector<double> RodModel::Impl::lumped_mass(const int first, const int last) const
+  {
+    std::vector<double> mass(u.size(), 0.0);
+    for (unsigned int c = 0; c < n_cells; ++c)
+      if (cell_active(c, first, last))
+        for (unsigned int i = 0; i < n_local; ++i)
+          mass[3 * cell_node[c][i / 3] + i % 3] += lumped_element[i];
+    return mass;
   }
 
   void RodModel::Impl::predict(const double step, const int first, const int last, StepState &x) const
