@@ -1489,6 +1489,33 @@ namespace
     EXPECT_TRUE(resumed) << "never back to quasi-static steps";
   }
 
+  TEST(RodModel, QuasiStaticStepsHaveDashpotsOnlyWhenAsked)
+  {
+    // FEM/Quasi-static dashpots: whether the dashpots act in quasi-static
+    // steps (rates over the injection's time). Their work up to the first
+    // snap (or phi 0.5): some with them, none without; the ledger closes
+    // either way.
+    for (const bool dashpots : {true, false})
+      {
+        auto s = snapping_scene();
+        s.fem.quasi_static_dashpots = dashpots;
+        fem::RodModel m(s);
+        double damping = 0, balance = 0;
+        while (fem::RodModelProbe::snaps(m) == 0 && analysis::packing_density(m.injected_length(), 6.0) < 0.5)
+          {
+            damping = m.energies().damping;
+            balance = m.energies().balance_error();
+            m.step();
+          }
+        ASSERT_GT(m.n_steps(), 100u) << dashpots;
+        if (dashpots)
+          EXPECT_GT(damping, 1e-4 * m.energies().in()) << damping;
+        else
+          EXPECT_EQ(damping, 0.0);
+        EXPECT_LT(std::abs(balance), 0.01) << dashpots;
+      }
+  }
+
   TEST(RodModel, QuasiStaticSnapsIgnoreTheStepError)
   {
     // FEM/Step error acts on generalized-alpha runs only: a quasi-static

@@ -154,7 +154,11 @@ namespace wirefem::fem
     std::vector<int> g(nd);
     std::vector<double> ue(nd), mat(nd * nd);
     ElementResult er;
-    const double viscous_dt = viscous && step > 0 ? step : 0.0;
+    // A quasi-static step's rates are over the time its injection takes:
+    // its dashpots only with FEM/Quasi-static dashpots.
+    const bool dashpots =
+        viscous && (scene.fem.quasi_static_dashpots || !quasi_static_injection || dynamic_phase());
+    const double viscous_dt = dashpots && step > 0 ? step : 0.0;
     for (unsigned int c = 0; c < n_cells; ++c)
       {
         if (!cell_active(c, first, last))

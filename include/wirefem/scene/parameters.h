@@ -303,6 +303,9 @@ namespace wirefem::scene
     /// gamma (1/time): drag -gamma m v on the free nodes' positions (m the
     /// lumped nodal mass), as Discrete/Translational damping; with inertia.
     double translational_damping = 0.0;
+    /// Quasi-static injection: the dashpots act in its quasi-static steps
+    /// (rates over the injection's time), not only in its dynamic phases.
+    bool quasi_static_dashpots = true;
 
     /// The defaults that come from other sections or keys: the shear
     /// stiffness from EA, the dashpots from the discrete model's, the self
