@@ -1516,6 +1516,37 @@ namespace
       }
   }
 
+  TEST(RodModel, QuasiStaticStepsWithASlipScaleDoNotReadTheSpeed)
+  {
+    // Quasi-static steps go by injected length; their friction creeps over
+    // v_th times the longest step (0.025 d / speed) unless FEM/Quasi-static
+    // slip scale fixes that slip. With it, and without dashpots in those
+    // steps (their rates are over the injection's time), runs at speeds 1
+    // and 0.1 are the same run; by default they are not.
+    auto run = [](const std::string &speed, const bool fixed) {
+      std::vector<std::string> keys{speed, "Injection/Ramp time=0", "FEM/Integrator=quasi-static",
+                                    "FEM/Quasi-static dashpots=false",
+                                    "Contact/Friction/Static coefficient=0.5"};
+      if (fixed)
+        keys.push_back("FEM/Quasi-static slip scale=0.001");
+      fem::RodModel m(fem_scene(keys));
+      bool touched = false;
+      while (analysis::packing_density(m.injected_length(), 6.0) < 0.3)
+        {
+          m.step();
+          touched = touched || m.report().n_self_contacts > 0;
+        }
+      EXPECT_TRUE(touched) << speed;
+      EXPECT_EQ(fem::RodModelProbe::snaps(m), 0u) << speed;
+      return std::pair{m.n_steps(), m.energies().bending + m.energies().friction};
+    };
+    const auto fast = run("Injection/Speed=1", true), slow = run("Injection/Speed=0.1", true);
+    EXPECT_EQ(fast.first, slow.first);
+    EXPECT_NEAR(slow.second / fast.second, 1.0, 1e-9) << fast.second << " " << slow.second;
+    const auto fast0 = run("Injection/Speed=1", false), slow0 = run("Injection/Speed=0.1", false);
+    EXPECT_GT(std::abs(slow0.second / fast0.second - 1.0), 1e-3) << fast0.second << " " << slow0.second;
+  }
+
   TEST(RodModel, QuasiStaticSnapsIgnoreTheStepError)
   {
     // FEM/Step error acts on generalized-alpha runs only: a quasi-static

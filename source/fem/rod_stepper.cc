@@ -107,7 +107,11 @@ namespace wirefem::fem
     // sharpen into a jump as steps are cut (Newton then stalls at the first
     // self contact).
     if (quasi_static_injection && !dynamic_phase())
-      rq.friction_rate = step / dt_max;
+      {
+        // (FEM/Quasi-static slip scale, in d, over v_th in d per time.)
+        const double slip = scene.fem.quasi_static_slip_scale;
+        rq.friction_rate = step / (slip > 0 ? slip / scene.contact.friction.threshold_velocity : dt_max);
+      }
     return rq;
   }
 

@@ -104,8 +104,9 @@ STUDIES = {
     "elastic_fem_fast": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4), **FAST},
     "fig5_fem_auto": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **DEFAULTS},
     "elastic_fem_auto": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4), **DEFAULTS},
-    # The FEM's quasi-static limit itself: no inertia, steps by injected
-    # length, snaps taken by dynamics with the injection paused.
+    # The FEM without inertia: steps by injected length, snaps taken by
+    # dynamics with the injection paused; at the scenes' speed, which its
+    # friction's creep and its dashpots read.
     "fig5_fem_qs": {"scene": "fig5", "model": "fem", "radius": 25, "seeds": range(1, 4), **QUASI_STATIC},
     "elastic_fem_qs": {"scene": "elastic", "model": "fem", "radius": 25, "seeds": range(1, 4), **QUASI_STATIC},
 }
@@ -382,11 +383,15 @@ def report(outdir):
               "(`docs/notes/2026-12-06-fem-self-friction.md`).",
               "",
               "The rows `fem, FEM/Integrator = quasi-static` are the FEM without inertia, stepping by injected "
-              "length (`docs/notes/2026-12-05-quasi-static-injection.md`): the quasi-static limit itself. On the "
+              "length (`docs/notes/2026-12-05-quasi-static-injection.md`), at the scenes' speed 0.3. It is not "
+              "a limit free of the speed: its friction creeps over v_th times a step's time and its dashpots "
+              "act on rates over that time (`docs/notes/2026-12-07-quasi-static-dashpots.md`; at f = 15 the "
+              "elastic wire jams at 0.585 at speed 0.03). On the "
               "Fig. 5 scene it jams 0.015 below the chain injected at 0.01; on the elastic scene 0.10 below it, "
-              "with regular cascades and wide gaps between them. There the chain's slips stay dynamic however "
-              "slowly it is injected; damped by a drag they take it half-way to the quasi-static FEM "
-              "(`docs/notes/2026-12-07-elastic-quasi-static-limit.md`)."]
+              "with regular cascades and wide gaps between them. There the dashpots let rearrangements crawl "
+              "that the chain takes as inertial slips: damped by a drag, the chain's slips take it half-way "
+              "to the quasi-static FEM (`docs/notes/2026-12-07-elastic-quasi-static-limit.md`), and without "
+              "dashpots in its steps the FEM jams near the slow chain at f = 15 (0.57 against 0.600)."]
     versions = sorted({v for r in results for v in r.get("versions", [])})
     lines += ["", f"Runs made by wirefem {', '.join(versions)}.", "",
               "The inlet force averaged over the realizations at f = 25 (the chain, and the quasi-static "
