@@ -1514,6 +1514,11 @@ namespace
           EXPECT_EQ(damping, 0.0);
         EXPECT_LT(std::abs(balance), 0.01) << dashpots;
       }
+    // Generalized-alpha keeps its dashpots whatever the flag says.
+    fem::RodModel dynamic(fem_scene({"FEM/Quasi-static dashpots=false"}));
+    while (dynamic.injected_length() < 20.0)
+      dynamic.step();
+    EXPECT_GT(dynamic.energies().damping, 0.0);
   }
 
   TEST(RodModel, QuasiStaticStepsWithASlipScaleDoNotReadTheSpeed)
@@ -1523,12 +1528,13 @@ namespace
     // slip scale fixes that slip. With it, and without dashpots in those
     // steps (their rates are over the injection's time), runs at speeds 1
     // and 0.1 are the same run; by default they are not.
-    auto run = [](const std::string &speed, const bool fixed) {
-      std::vector<std::string> keys{speed, "Injection/Ramp time=0", "FEM/Integrator=quasi-static",
+    auto run = [](const std::string &speed, const std::string &scale) {
+      std::vector<std::string> keys{speed,
+                                    "Injection/Ramp time=0",
+                                    "FEM/Integrator=quasi-static",
                                     "FEM/Quasi-static dashpots=false",
-                                    "Contact/Friction/Static coefficient=0.5"};
-      if (fixed)
-        keys.push_back("FEM/Quasi-static slip scale=0.001");
+                                    "Contact/Friction/Static coefficient=0.5",
+                                    "FEM/Quasi-static slip scale=" + scale};
       fem::RodModel m(fem_scene(keys));
       bool touched = false;
       while (analysis::packing_density(m.injected_length(), 6.0) < 0.3)
@@ -1540,11 +1546,16 @@ namespace
       EXPECT_EQ(fem::RodModelProbe::snaps(m), 0u) << speed;
       return std::pair{m.n_steps(), m.energies().bending + m.energies().friction};
     };
-    const auto fast = run("Injection/Speed=1", true), slow = run("Injection/Speed=0.1", true);
+    const auto fast = run("Injection/Speed=1", "0.001"), slow = run("Injection/Speed=0.1", "0.001");
     EXPECT_EQ(fast.first, slow.first);
     EXPECT_NEAR(slow.second / fast.second, 1.0, 1e-9) << fast.second << " " << slow.second;
-    const auto fast0 = run("Injection/Speed=1", false), slow0 = run("Injection/Speed=0.1", false);
+    const auto fast0 = run("Injection/Speed=1", "0"), slow0 = run("Injection/Speed=0.1", "0");
     EXPECT_GT(std::abs(slow0.second / fast0.second - 1.0), 1e-3) << fast0.second << " " << slow0.second;
+    // The scale the default takes at speed 1 (v_th 0.01 times 0.025): the
+    // same law, so the same run (up to rounding in the rate).
+    const auto same = run("Injection/Speed=1", "0.00025");
+    EXPECT_EQ(same.first, fast0.first);
+    EXPECT_NEAR(same.second / fast0.second, 1.0, 1e-6) << same.second << " " << fast0.second;
   }
 
   TEST(RodModel, QuasiStaticSnapsIgnoreTheStepError)

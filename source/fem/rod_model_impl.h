@@ -84,8 +84,8 @@ namespace wirefem::fem
     double blend_force = 1.0; ///< weight of the conservative forces in the residual
     bool constrain = true;    ///< eliminate the capstan roller's tangential dof
     /// Friction sees the velocity times this: 1, or for quasi-static
-    /// injection step / dt_max, so that its regularisation acts on the
-    /// slip over a step, whatever the step's length.
+    /// injection step / dt_max (or / FEM/Quasi-static slip scale over v_th):
+    /// its regularisation then acts on the slip of a step, whatever its length.
     double friction_rate = 1.0;
 
     /// The part of the velocity friction sees that does not depend on u,

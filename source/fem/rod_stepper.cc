@@ -108,9 +108,11 @@ namespace wirefem::fem
     // self contact).
     if (quasi_static_injection && !dynamic_phase())
       {
-        // (FEM/Quasi-static slip scale, in d, over v_th in d per time.)
+        // (FEM/Quasi-static slip scale, in d, over v_th in d per time,
+        // floored as the regularised law floors it.)
         const double slip = scene.fem.quasi_static_slip_scale;
-        rq.friction_rate = step / (slip > 0 ? slip / scene.contact.friction.threshold_velocity : dt_max);
+        const double v_th = std::max(scene.contact.friction.threshold_velocity, 1e-9);
+        rq.friction_rate = step / (slip > 0 ? slip / v_th : dt_max);
       }
     return rq;
   }

@@ -388,10 +388,11 @@ def report(outdir):
               "act on rates over that time (`docs/notes/2026-12-07-quasi-static-dashpots.md`; at f = 15 the "
               "elastic wire jams at 0.585 at speed 0.03). On the "
               "Fig. 5 scene it jams 0.015 below the chain injected at 0.01; on the elastic scene 0.10 below it, "
-              "with regular cascades and wide gaps between them. There the dashpots let rearrangements crawl "
-              "that the chain takes as inertial slips: damped by a drag, the chain's slips take it half-way "
-              "to the quasi-static FEM (`docs/notes/2026-12-07-elastic-quasi-static-limit.md`), and without "
-              "dashpots in its steps the FEM jams near the slow chain at f = 15 (0.57 against 0.600)."]
+              "with regular cascades and wide gaps between them. There the chain's slips are inertial: damped "
+              "by a drag they take it half-way to the quasi-static FEM "
+              "(`docs/notes/2026-12-07-elastic-quasi-static-limit.md`). Without dashpots in its steps the FEM "
+              "jams near the slow chain at f = 15 (0.57 against 0.600) but lower at f = 8; f = 25 was not run "
+              "so."]
     versions = sorted({v for r in results for v in r.get("versions", [])})
     lines += ["", f"Runs made by wirefem {', '.join(versions)}.", "",
               "The inlet force averaged over the realizations at f = 25 (the chain, and the quasi-static "

@@ -21,9 +21,9 @@ The studies (analysis.STUDIES; run directories OUTDIR/<study>_s<seed>):
   friction law between wires too, with and without FEM/Step error =
   1e-2 (the step set by its error estimates), and with the defaults
   (FEM/Linear solver = auto; 1-3 minutes a run);
-- both classic scenes in the quasi-static limit (Injection/Speed = 0.01,
-  9 seeds each; about 25 and 40 minutes a run), and from the FEM with
-  FEM/Integrator = quasi-static (3 seeds each);
+- both classic scenes injected slowly (Injection/Speed = 0.01, 9 seeds
+  each; about 25 and 40 minutes a run), and from the FEM with
+  FEM/Integrator = quasi-static at the scenes' speed (3 seeds each);
 - gamma of prm/classic.prm at f = 50 (3 seeds) and of prm/plastic.prm at
   f = 100 (one run, about 3 hours);
 - the spiral (prm/spiral.prm at f = 25, 3 seeds, run to phi = 1);
