@@ -32,7 +32,7 @@ namespace wirefem::fem
       using std::abs;
       using std::exp;
       using std::tanh;
-      const double vth = std::max(s.threshold_velocity, 1e-9);
+      const double vth = regularised_threshold(s);
       const T mu = s.mu_dynamic + (s.mu_static - s.mu_dynamic) * exp(-abs(vt) / vth);
       return -mu * fn * tanh(vt / vth);
     }

@@ -395,8 +395,7 @@ namespace wirefem::fem
     // f = 25 it made them dearer and moved phi at jamming up), unless
     // those have no dashpots: then the snaps carry the rearrangements,
     // and with fixed steps the ledger missed 2-3%.
-    const bool snaps_controlled =
-        integrator == scene::Integrator::quasi_static && !s.fem.quasi_static_dashpots;
+    const bool snaps_controlled = quasi_static_injection && !s.fem.quasi_static_dashpots;
     step_error =
         integrator == scene::Integrator::generalized_alpha || snaps_controlled ? s.fem.step_error : 0.0;
     step_energy_error = s.fem.step_energy_error;

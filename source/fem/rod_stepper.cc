@@ -108,11 +108,9 @@ namespace wirefem::fem
     // self contact).
     if (quasi_static_injection && !dynamic_phase())
       {
-        // (FEM/Quasi-static slip scale, in d, over v_th in d per time,
-        // floored as the regularised law floors it.)
+        // (FEM/Quasi-static slip scale, in d, over v_th in d per time.)
         const double slip = scene.fem.quasi_static_slip_scale;
-        const double v_th = std::max(scene.contact.friction.threshold_velocity, 1e-9);
-        rq.friction_rate = step / (slip > 0 ? slip / v_th : dt_max);
+        rq.friction_rate = step / (slip > 0 ? slip / regularised_threshold(self_settings) : dt_max);
       }
     return rq;
   }

@@ -69,12 +69,19 @@ namespace wirefem::fem
   /// speed v: mu(v) tanh(v / v_th), from the law the contacts use.
   double sliding_coefficient(const ContactSettings &s, double v);
 
+  /// The regularised law's v_th, kept above zero (v_th = 0 is Coulomb's
+  /// law, which the regularisation only approaches).
+  inline double regularised_threshold(const ContactSettings &s)
+  {
+    return std::max(s.threshold_velocity, 1e-9);
+  }
+
   /// The regularised law's friction damping at rest, mu_st F_n / v_th: the
   /// slope of the friction force in the slip rate. An explicit step longer
   /// than (mass / damping) lets the friction of a contact overshoot.
   inline double friction_damping(const ContactSettings &s, const double fn)
   {
-    return s.mu_static * fn / std::max(s.threshold_velocity, 1e-9);
+    return s.mu_static * fn / regularised_threshold(s);
   }
 
   /// Wall of the cavity: a circle of radius r, open over |y| < d/2 at x = +-r
