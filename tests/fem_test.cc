@@ -1462,10 +1462,11 @@ namespace
 
   scene::Scene snapping_scene()
   {
-    // At mu_st 5 the quasi-static wire meets a state with no equilibrium
+    // At mu_st 5 and friction's creep 0.01 per length injected (v_th over
+    // the speed) the quasi-static wire meets a state with no equilibrium
     // near (Newton fails down to the smallest step) at L = 33.9.
     return fem_scene({"Wire/Plasticity/Yield curvature=0.05", "Contact/Friction/Static coefficient=5",
-                      "FEM/Integrator=quasi-static"});
+                      "FEM/Integrator=quasi-static", "FEM/Quasi-static creep=0.01"});
   }
 
   TEST(RodModel, QuasiStaticInjectionHandsASnapToDynamicsAndGoesOn)
@@ -1550,20 +1551,20 @@ namespace
     EXPECT_LT(std::abs(m.energies().balance_error()), 0.01);
   }
 
-  TEST(RodModel, QuasiStaticStepsWithASlipScaleDoNotReadTheSpeed)
+  TEST(RodModel, QuasiStaticFrictionCreepsPerInjectedLengthNotPerTime)
   {
-    // Quasi-static steps go by injected length; their friction creeps over
-    // v_th times the longest step (0.025 d / speed) unless FEM/Quasi-static
-    // slip scale fixes that slip. With it, and without dashpots in those
-    // steps (their rates are over the injection's time), runs at speeds 1
-    // and 0.1 are the same run; by default they are not.
-    auto run = [](const std::string &speed, const std::string &scale) {
+    // Quasi-static steps go by injected length; their friction creeps by
+    // FEM/Quasi-static creep per length injected. Without dashpots in
+    // those steps (their rates are over the injection's time), runs at
+    // speeds 1 and 0.1 are then the same run. With the creep 0 (the
+    // dynamic law's, v_th / speed) they are not.
+    auto run = [](const std::string &speed, const std::string &creep) {
       std::vector<std::string> keys{speed,
                                     "Injection/Ramp time=0",
                                     "FEM/Integrator=quasi-static",
                                     "FEM/Quasi-static dashpots=false",
                                     "Contact/Friction/Static coefficient=0.5",
-                                    "FEM/Quasi-static slip scale=" + scale};
+                                    "FEM/Quasi-static creep=" + creep};
       fem::RodModel m(fem_scene(keys));
       bool touched = false;
       while (analysis::packing_density(m.injected_length(), 6.0) < 0.3)
@@ -1575,16 +1576,19 @@ namespace
       EXPECT_EQ(fem::RodModelProbe::snaps(m), 0u) << speed;
       return std::pair{m.n_steps(), m.energies().bending + m.energies().friction};
     };
-    const auto fast = run("Injection/Speed=1", "0.001"), slow = run("Injection/Speed=0.1", "0.001");
+    const auto fast = run("Injection/Speed=1", "0.04"), slow = run("Injection/Speed=0.1", "0.04");
     EXPECT_EQ(fast.first, slow.first);
     EXPECT_NEAR(slow.second / fast.second, 1.0, 1e-9) << fast.second << " " << slow.second;
     const auto fast0 = run("Injection/Speed=1", "0"), slow0 = run("Injection/Speed=0.1", "0");
     EXPECT_GT(std::abs(slow0.second / fast0.second - 1.0), 1e-3) << fast0.second << " " << slow0.second;
-    // The scale the default takes at speed 1 (v_th 0.01 times 0.025): the
+    // The creep the dynamic law has at speed 1 (v_th 0.01 over 1): the
     // same law, so the same run (up to rounding in the rate).
-    const auto same = run("Injection/Speed=1", "0.00025");
+    const auto same = run("Injection/Speed=1", "0.01");
     EXPECT_EQ(same.first, fast0.first);
     EXPECT_NEAR(same.second / fast0.second, 1.0, 1e-6) << same.second << " " << fast0.second;
+    // And the creep matters: ten times as much lets the contacts slip.
+    const auto loose = run("Injection/Speed=1", "0.4");
+    EXPECT_GT(std::abs(loose.second / fast.second - 1.0), 1e-3) << loose.second << " " << fast.second;
   }
 
   TEST(RodModel, QuasiStaticSnapsIgnoreTheStepError)

@@ -84,7 +84,7 @@ namespace wirefem::fem
     double blend_force = 1.0; ///< weight of the conservative forces in the residual
     bool constrain = true;    ///< eliminate the capstan roller's tangential dof
     /// Friction sees the velocity times this: 1, or for quasi-static
-    /// injection step / dt_max (or / FEM/Quasi-static slip scale over v_th):
+    /// injection step / dt_max (FEM/Quasi-static creep: rod_stepper.cc), so
     /// its regularisation then acts on the slip of a step, whatever its length.
     double friction_rate = 1.0;
 

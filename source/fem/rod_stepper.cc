@@ -108,9 +108,12 @@ namespace wirefem::fem
     // self contact).
     if (quasi_static_injection && !dynamic_phase())
       {
-        // (FEM/Quasi-static slip scale, in d, over v_th in d per time.)
-        const double slip = scene.fem.quasi_static_slip_scale;
-        rq.friction_rate = step / (slip > 0 ? slip / regularised_threshold(self_settings) : dt_max);
+        // FEM/Quasi-static creep: the law's slip scale is that fraction of
+        // the longest step's injection (dt_max times the speed); 0: v_th
+        // times dt_max, the dynamic law's, whose creep grows as the speed falls.
+        const double creep = scene.fem.quasi_static_creep;
+        const double slip = creep * dt_max * scene.injection.speed;
+        rq.friction_rate = step / (creep > 0 ? slip / regularised_threshold(self_settings) : dt_max);
       }
     return rq;
   }

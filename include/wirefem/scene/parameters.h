@@ -306,9 +306,10 @@ namespace wirefem::scene
     /// Quasi-static injection: the dashpots act in its quasi-static steps
     /// (rates over the injection's time), not only in its dynamic phases.
     bool quasi_static_dashpots = true;
-    /// Quasi-static injection: the slip (d) over which regularised friction
-    /// rises in a step; 0: v_th times the longest step (speed-dependent).
-    double quasi_static_slip_scale = 0.0;
+    /// Quasi-static injection: friction's creep per injected length (its
+    /// regularised law's slip scale over a step's injection); 0: v_th over
+    /// the injection speed (the dynamic law's, speed-dependent).
+    double quasi_static_creep = 0.0;
 
     /// The defaults that come from other sections or keys: the shear
     /// stiffness from EA, the dashpots from the discrete model's, the self
