@@ -289,12 +289,14 @@ set_tests_properties(scene.fem_elastic_f15_packs_as_the_chain PROPERTIES LABELS 
 # wall's mu_st 5): a converged step jumped to an equilibrium with one wire
 # through another (overlap 0.67 d at phi 0.117), past the contact
 # candidates Newton saw. Such a step is now cut, and the run packs to
-# phi_max (about 45 s).
+# phi_max or jams near it (about 45 s): seed 1 ends at 0.600 with
+# FEM/Quasi-static energy error 0, at 0.585 with 0.3 and 0.575 with 0.1
+# (seeds 2 and 3 at 0.600), so the bar is 0.55, far above the fault's 0.117.
 add_test(NAME scene.fem_quasi_static_no_wire_friction_packs
          COMMAND ${CMAKE_COMMAND} -DEXE=${WIREFEM_EXE} -DPRM=${CMAKE_SOURCE_DIR}/prm/classic.prm
                  -DSETTING=Cavity/Radius=15 -DMODEL=Model=fem
                  "-DEXTRA=FEM/Integrator=quasi-static|Wire/Plasticity/Enabled=false|Contact/Friction/Static coefficient=0|Contact/Friction/Wall static coefficient=5"
-                 -DMIN_PHI=0.59 -DMAX_OVERLAP=0.1 -DOUT=${SCENE_OUT}/fem_quasi_static_no_wire_friction
+                 -DMIN_PHI=0.55 -DMAX_OVERLAP=0.1 -DOUT=${SCENE_OUT}/fem_quasi_static_no_wire_friction
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_clean_run.cmake)
 set_tests_properties(scene.fem_quasi_static_no_wire_friction_packs PROPERTIES LABELS regression TIMEOUT 900)
 

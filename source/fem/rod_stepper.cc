@@ -372,6 +372,18 @@ namespace wirefem::fem
     error_ratio = control ? std::max(error_estimate / step_error,
                                      step_energy_error > 0 ? energy_estimate / step_energy_error : 0.0)
                           : 0.0;
+    // FEM/Quasi-static energy error: a quasi-static injection step whose
+    // own imbalance (the error of its trapezoidal booking) is over four
+    // times that fraction of its share of the energy put in is made again,
+    // shorter. Below that its step is left as it was (the ratio 0).
+    const double qs_target = scene.fem.quasi_static_energy_error;
+    if (quasi_static_injection && !dynamic_phase() && qs_target > 0 && after.in() > 0)
+      {
+        energy_estimate =
+            std::abs(after.imbalance() - ledger.imbalance()) / (after.in() * x.step / (t + x.step));
+        const double ratio = energy_estimate / qs_target;
+        error_ratio = ratio > 4.0 ? ratio : 0.0;
+      }
     return error_ratio;
   }
 
