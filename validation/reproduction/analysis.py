@@ -66,7 +66,7 @@ SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=regularised
 SLOW = {"sets": ["Injection/Speed=0.01"], "label": "discrete, Injection/Speed = 0.01"}
 # (Quasi-static runs ignore FEM/Step error: their snaps keep fixed steps.)
 QUASI_STATIC = {"sets": ["FEM/Integrator=quasi-static", "FEM/Self friction law=regularised",
-                         "FEM/Quasi-static creep=0.03"],
+                         "FEM/Quasi-static creep=0.03", "FEM/Quasi-static energy error=0.1"],
                 "label": "fem, FEM/Integrator = quasi-static"}
 SELF_SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=spring"] + FIXED,
                "label": "fem, the chain's friction law at the wall and between wires, fixed steps"}
