@@ -377,7 +377,8 @@ namespace wirefem::fem
     // times that fraction of its share of the energy put in is made again,
     // shorter. Below that its step is left as it was (the ratio 0).
     const double qs_target = scene.fem.quasi_static_energy_error;
-    if (quasi_static_injection && !dynamic_phase() && qs_target > 0 && after.in() > 0)
+    // (Not the start shape's relaxation, which ends at t = 0.)
+    if (quasi_static_injection && !dynamic_phase() && qs_target > 0 && after.in() > 0 && t + x.step > 0)
       {
         energy_estimate =
             std::abs(after.imbalance() - ledger.imbalance()) / (after.in() * x.step / (t + x.step));

@@ -309,10 +309,10 @@ namespace wirefem::scene
     /// Quasi-static injection: friction's creep per injected length (its
     /// regularised law's slip scale over a step's injection); 0: v_th over
     /// the injection speed (the dynamic law's, speed-dependent).
-    double quasi_static_creep = 0.0;
+    double quasi_static_creep = 0.03;
     /// Quasi-static injection: a step whose own imbalance is over four times
     /// this fraction of its share of the energy put in is made again, shorter.
-    double quasi_static_energy_error = 0.0;
+    double quasi_static_energy_error = 0.1;
 
     /// The defaults that come from other sections or keys: the shear
     /// stiffness from EA, the dashpots from the discrete model's, the self
