@@ -88,17 +88,20 @@ namespace wirefem::fem
     return b;
   }
 
-  double RodModel::Impl::energy_error(const core::EnergyLedger &after, const double step) const
+  double RodModel::Impl::energy_error(const core::EnergyLedger &after, const double step,
+                                      const bool with_last) const
   {
-    // Over this step and the one before: with rho_inf < 1 generalized-alpha
-    // leaves a decaying part in the accelerations that alternates from step
-    // to step (it is excited by every contact), and with it the imbalance
-    // of a single step, which then does not fall with the step; over two
-    // steps it mostly cancels.
+    // The imbalance over its share of the energy put in (that energy times
+    // the length over the time). Generalized-alpha takes this step and the
+    // one before: with rho_inf < 1 it leaves a decaying part in the
+    // accelerations that alternates from step to step (it is excited by
+    // every contact), and with it the imbalance of a single step, which
+    // then does not fall with the step; over two steps it mostly cancels.
     if (after.in() <= 0.0)
       return 0.0;
-    const double both = after.imbalance() - ledger.imbalance() + last_imbalance;
-    return std::abs(both) / (after.in() * (step + last_step) / (t + step));
+    const double own = after.imbalance() - ledger.imbalance();
+    const double imbalance = with_last ? own + last_imbalance : own;
+    return std::abs(imbalance) / (after.in() * (with_last ? step + last_step : step) / (t + step));
   }
 
   void RodModel::Impl::commit(const double step, const int first, const int last,

@@ -583,7 +583,7 @@ namespace wirefem::fem
                  const Evaluation &e, int work_first, int work_last) const;
     /// FEM/Step energy error: the ledger's imbalance over this step and the
     /// last, over their share (length / time) of the energy in so far.
-    double energy_error(const core::EnergyLedger &after, double step) const;
+    double energy_error(const core::EnergyLedger &after, double step, bool with_last = true) const;
     /// Accepts the step, booked as b.
     void commit(double step, int first, int last, const dealii::Vector<double> &u1,
                 const dealii::Vector<double> &v1, const dealii::Vector<double> &a1, Evaluation &e,

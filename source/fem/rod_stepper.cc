@@ -378,10 +378,9 @@ namespace wirefem::fem
     // shorter. Below that its step is left as it was (the ratio 0).
     const double qs_target = scene.fem.quasi_static_energy_error;
     // (Not the start shape's relaxation, which ends at t = 0.)
-    if (quasi_static_injection && !dynamic_phase() && qs_target > 0 && after.in() > 0 && t + x.step > 0)
+    if (quasi_static_injection && !dynamic_phase() && qs_target > 0 && t + x.step > 0)
       {
-        energy_estimate =
-            std::abs(after.imbalance() - ledger.imbalance()) / (after.in() * x.step / (t + x.step));
+        energy_estimate = energy_error(after, x.step, false);
         const double ratio = energy_estimate / qs_target;
         error_ratio = ratio > 4.0 ? ratio : 0.0;
       }
