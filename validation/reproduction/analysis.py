@@ -64,7 +64,9 @@ REGULARISED = {"sets": ["FEM/Friction law=regularised", "FEM/Self friction law=r
 SPRING = {"sets": ["FEM/Friction law=spring", "FEM/Self friction law=regularised"] + FIXED,
           "label": "fem, FEM/Friction law = spring, fixed steps"}
 SLOW = {"sets": ["Injection/Speed=0.01"], "label": "discrete, Injection/Speed = 0.01"}
-# (Quasi-static runs ignore FEM/Step error: their snaps keep fixed steps.)
+# (Quasi-static runs ignore FEM/Step error: their snaps keep fixed steps.
+# The creep and energy error are their defaults, named so that runs kept
+# from before those keys are not taken for runs with them.)
 QUASI_STATIC = {"sets": ["FEM/Integrator=quasi-static", "FEM/Self friction law=regularised",
                          "FEM/Quasi-static creep=0.03", "FEM/Quasi-static energy error=0.1"],
                 "label": "fem, FEM/Integrator = quasi-static"}
