@@ -156,8 +156,7 @@ namespace wirefem::fem
     ElementResult er;
     // A quasi-static step's rates are over the time its injection takes:
     // its dashpots only with FEM/Quasi-static dashpots.
-    const bool dashpots =
-        viscous && (scene.fem.quasi_static_dashpots || !quasi_static_injection || dynamic_phase());
+    const bool dashpots = viscous && (scene.fem.quasi_static_dashpots || !quasi_static_step());
     const double viscous_dt = dashpots && step > 0 ? step : 0.0;
     for (unsigned int c = 0; c < n_cells; ++c)
       {

@@ -55,7 +55,7 @@ namespace wirefem::fem
     // leave a first-order error that strong wall friction makes large
     // (9.6e-2 at mu_st 5 on the f = 10 classic scene, against 7.4e-4), and
     // miss the work of a node's reaction as the node leaves its channel.
-    const bool trapezoid = quasi_static_injection && !dynamic_phase();
+    const bool trapezoid = quasi_static_step();
     channel_work(u1, e, work_first, work_last, trapezoid, b.work);
     for (const double w : b.work)
       l.injection_work += w;
@@ -108,7 +108,7 @@ namespace wirefem::fem
                               const dealii::Vector<double> &u1, const dealii::Vector<double> &v1,
                               const dealii::Vector<double> &a1, Evaluation &e, const Booking &b)
   {
-    if (quasi_static_injection && !dynamic_phase() && std::getenv("WIREFEM_NEWTON_LOG"))
+    if (quasi_static_step() && std::getenv("WIREFEM_NEWTON_LOG"))
       log_jump(step, first, last, u1);
     const double du = injected_at(t + step) - injected_at(t);
     for (int side = 0; side < 2; ++side)

@@ -92,7 +92,7 @@ namespace wirefem::fem
                                    outcome == Outcome::missed_contact ? "Newton missed a contact; " : "",
                                    m.residual_history());
         step *= 0.5;
-        if (m.quasi_static_injection && !m.dynamic_phase() && step < m.scene.fem.minimum_time_step)
+        if (m.quasi_static_step() && step < m.scene.fem.minimum_time_step)
           {
             // A snap: no equilibrium near. Dynamics takes it.
             m.enter_dynamics();

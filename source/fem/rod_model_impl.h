@@ -202,8 +202,8 @@ namespace wirefem::fem
     double injection_time(double time) const { return pause_from.value_or(time) - paused_total; }
     bool injecting() const { return !pause_from; }
     bool dynamic_phase() const { return pause_from.has_value() || push_to.has_value(); }
-    /// Quasi-static injection: to generalized-alpha with the injection
-    /// paused (or pushing first), and back.
+    bool quasi_static_step() const { return quasi_static_injection && !dynamic_phase(); } ///< not a snap
+    /// Quasi-static injection: to generalized-alpha (injection paused, or pushing first), and back.
     void enter_dynamics();
     /// After a dynamic step: the end of a push, a calm wire.
     void after_dynamic_step();

@@ -106,7 +106,7 @@ namespace wirefem::fem
     // the longest step, not its rate, so that its regularisation does not
     // sharpen into a jump as steps are cut (Newton then stalls at the first
     // self contact).
-    if (quasi_static_injection && !dynamic_phase())
+    if (quasi_static_step())
       {
         // FEM/Quasi-static creep: the law's slip scale is that fraction of
         // the longest step's injection (dt_max times the speed); 0: v_th
@@ -378,7 +378,7 @@ namespace wirefem::fem
     // shorter. Below that its step is left as it was (the ratio 0).
     const double qs_target = scene.fem.quasi_static_energy_error;
     // (Not the start shape's relaxation, which ends at t = 0.)
-    if (quasi_static_injection && !dynamic_phase() && qs_target > 0 && t + x.step > 0)
+    if (quasi_static_step() && qs_target > 0 && t + x.step > 0)
       {
         energy_estimate = energy_error(after, x.step, false);
         const double ratio = energy_estimate / qs_target;
